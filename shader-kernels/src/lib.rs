@@ -1,0 +1,2 @@
+//! Compute entry points.
+#![no_std]

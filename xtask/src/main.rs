@@ -1,0 +1,216 @@
+//! Developer tasks. `cargo xtask --help` lists them.
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use shader_manifest::{Manifest, MANIFEST_PATH, SPV_PATH};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+/// The nightly that `spirv-builder 0.11.0` requires (its `rust-toolchain.toml`).
+const TOOLCHAIN: &str = "nightly-2026-08-15";
+const SPIRV_BUILDER: &str = "0.11.0";
+const TARGET: &str = "spirv-unknown-vulkan1.2";
+
+#[derive(Parser)]
+#[command(about = "Developer tasks for the shading workspace")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Compile `shader-kernels` to SPIR-V with rust-gpu and store it (with its manifest) under host/shaders/.
+    ///
+    /// The first run on a machine installs the pinned nightly (rust-src, rustc-dev, llvm-tools) and
+    /// builds the `rustc_codegen_spirv` backend into the user cache (~/.cache/rust-gpu): about 25
+    /// minutes on 2 cores. Later runs reuse it and take about a minute.
+    BuildShaders {
+        /// Rebuild into a temporary directory and fail if the committed SPIR-V or manifest differ.
+        #[arg(long)]
+        check: bool,
+    },
+    /// Run the whole test suite, CPU-vs-GPU comparisons included (the README's test command).
+    ///
+    /// Installs Mesa lavapipe with apt-get when no Vulkan loader/ICD is present and we run as root
+    /// (or --install-lavapipe is given); otherwise prints the command to run. Under CI=true a GPU
+    /// comparison that cannot run fails the run.
+    Test {
+        /// Install lavapipe with apt-get if no Vulkan driver is found (default when running as root).
+        #[arg(long)]
+        install_lavapipe: bool,
+        /// Extra arguments for `cargo test`.
+        #[arg(trailing_var_arg = true)]
+        rest: Vec<String>,
+    },
+}
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace")
+        .to_path_buf()
+}
+
+fn main() -> Result<()> {
+    match Cli::parse().cmd {
+        Cmd::BuildShaders { check } => build_shaders(check),
+        Cmd::Test {
+            install_lavapipe,
+            rest,
+        } => test(install_lavapipe, &rest),
+    }
+}
+
+fn build_shaders(check: bool) -> Result<()> {
+    let root = workspace_root();
+    let shader_crate = root.join("shader-kernels");
+    let t0 = Instant::now();
+    eprintln!(
+        "[build-shaders] preparing rust-gpu {SPIRV_BUILDER} backend on {TOOLCHAIN} \
+         (cached in ~/.cache/rust-gpu; the first build takes ~25 minutes)"
+    );
+    let mut install = cargo_gpu_install::install::Install::from_shader_crate(shader_crate.clone());
+    install.auto_install_rust_toolchain = true;
+    let backend = install
+        .run()
+        .context("installing the rust-gpu codegen backend")?;
+    if backend.toolchain_channel != TOOLCHAIN {
+        eprintln!(
+            "[build-shaders] note: backend toolchain is {} (xtask pins {TOOLCHAIN})",
+            backend.toolchain_channel
+        );
+    }
+    eprintln!(
+        "[build-shaders] backend ready in {:.0?}: {}",
+        t0.elapsed(),
+        backend.rustc_codegen_spirv_location.display()
+    );
+
+    let t1 = Instant::now();
+    let mut builder = backend.to_spirv_builder(&shader_crate, TARGET);
+    builder.release = true;
+    builder.multimodule = false;
+    builder.build_script.defaults = false;
+    builder.spirv_metadata = cargo_gpu_install::spirv_builder::SpirvMetadata::None;
+    // Keep the shader build's own target dir outside the host's so a host `cargo build` never races it.
+    builder.target_dir_path = Some(root.join("target").join("spirv-builder"));
+    let result = builder.build().context("compiling shader-kernels to SPIR-V")?;
+    let spv_path = result.module.unwrap_single().to_path_buf();
+    let spv = std::fs::read(&spv_path).with_context(|| format!("reading {}", spv_path.display()))?;
+    let mut entry_points = result.entry_points.clone();
+    entry_points.sort();
+    eprintln!(
+        "[build-shaders] compiled {} bytes, entry points {:?} in {:.0?}",
+        spv.len(),
+        entry_points,
+        t1.elapsed()
+    );
+
+    let manifest = Manifest {
+        source_hash: shader_manifest::source_hash(&root).context("hashing shader sources")?,
+        spv_bytes: spv.len() as u64,
+        toolchain: backend.toolchain_channel.clone(),
+        spirv_builder: SPIRV_BUILDER.into(),
+        target: TARGET.into(),
+        entry_points,
+    };
+    let json = manifest.to_json();
+    let spv_out = root.join(SPV_PATH);
+    let manifest_out = root.join(MANIFEST_PATH);
+    if check {
+        let old_spv = std::fs::read(&spv_out).unwrap_or_default();
+        let old_manifest = std::fs::read_to_string(&manifest_out).unwrap_or_default();
+        let mut problems = Vec::new();
+        if old_spv != spv {
+            problems.push(format!(
+                "{SPV_PATH} differs from a fresh build ({} vs {} bytes)",
+                old_spv.len(),
+                spv.len()
+            ));
+        }
+        if old_manifest != json {
+            problems.push(format!("{MANIFEST_PATH} differs from a fresh build"));
+        }
+        if !problems.is_empty() {
+            bail!(
+                "{}; run `cargo xtask build-shaders` and commit the result",
+                problems.join("; ")
+            );
+        }
+        eprintln!("[build-shaders] --check: committed SPIR-V and manifest are up to date");
+    } else {
+        std::fs::create_dir_all(spv_out.parent().unwrap())?;
+        std::fs::write(&spv_out, &spv)?;
+        std::fs::write(&manifest_out, json)?;
+        eprintln!("[build-shaders] wrote {SPV_PATH} and {MANIFEST_PATH}");
+    }
+    Ok(())
+}
+
+fn has_vulkan_driver() -> bool {
+    let icd_dirs = [
+        "/usr/share/vulkan/icd.d",
+        "/etc/vulkan/icd.d",
+        "/usr/local/share/vulkan/icd.d",
+    ];
+    let icd = icd_dirs.iter().any(|d| {
+        std::fs::read_dir(d)
+            .map(|mut it| it.next().is_some())
+            .unwrap_or(false)
+    }) || std::env::var_os("VK_ICD_FILENAMES").is_some()
+        || std::env::var_os("VK_DRIVER_FILES").is_some();
+    let loader = ["/usr/lib/x86_64-linux-gnu/libvulkan.so.1", "/usr/lib/libvulkan.so.1", "/usr/lib64/libvulkan.so.1"]
+        .iter()
+        .any(|p| Path::new(p).exists());
+    icd && loader
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false)
+}
+
+const LAVAPIPE_INSTALL: &str = "apt-get update && apt-get install -y mesa-vulkan-drivers libvulkan1";
+
+fn test(install_lavapipe: bool, rest: &[String]) -> Result<()> {
+    let root = workspace_root();
+    if !has_vulkan_driver() {
+        if install_lavapipe || is_root() {
+            eprintln!("[test] no Vulkan driver found: installing Mesa lavapipe ({LAVAPIPE_INSTALL})");
+            let ok = Command::new("sh")
+                .arg("-c")
+                .arg(format!("DEBIAN_FRONTEND=noninteractive {LAVAPIPE_INSTALL}"))
+                .status()
+                .context("running apt-get")?
+                .success();
+            if !ok {
+                bail!("installing lavapipe failed; run as root: {LAVAPIPE_INSTALL}");
+            }
+        } else {
+            eprintln!(
+                "[test] WARNING: no Vulkan driver found, the GPU comparisons will be skipped. \
+                 To run them, install lavapipe as root: {LAVAPIPE_INSTALL}"
+            );
+        }
+    }
+    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    cmd.current_dir(&root)
+        .args(["test", "--workspace", "--release"])
+        .args(rest);
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        let dir = std::env::temp_dir().join("xdg-runtime");
+        std::fs::create_dir_all(&dir)?;
+        cmd.env("XDG_RUNTIME_DIR", dir);
+    }
+    eprintln!("[test] cargo test --workspace --release {}", rest.join(" "));
+    let status = cmd.status().context("running cargo test")?;
+    if !status.success() {
+        bail!("tests failed");
+    }
+    Ok(())
+}
