@@ -1,2 +1,12 @@
 //! Shading math shared bit-for-bit by the CPU backend and the rust-gpu SPIR-V kernels.
+//!
+//! Every function is written once and used by both backends; arithmetic is restricted to
+//! correctly rounded operations (`+ - * / sqrt`) with a fixed evaluation order, so CPU and GPU
+//! results agree to the bit on conforming devices (see README, "Bit-exactness").
 #![no_std]
+
+pub mod masking;
+pub mod ndf;
+pub mod vector;
+
+pub use vector::Vec3;

@@ -1,0 +1,28 @@
+//! Hash the shader sources at build time so the host can refuse SPIR-V built from other sources.
+use std::path::Path;
+
+fn main() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let files = shader_manifest::shader_source_files(root).expect("listing shader sources");
+    for f in &files {
+        println!("cargo:rerun-if-changed={}", root.join(f).display());
+    }
+    for krate in shader_manifest::SHADER_CRATES {
+        // New files in a source directory change the directory's mtime.
+        println!("cargo:rerun-if-changed={}", root.join(krate).join("src").display());
+    }
+    println!("cargo:rerun-if-changed={}", root.join(shader_manifest::SPV_PATH).display());
+    println!("cargo:rerun-if-changed={}", root.join(shader_manifest::MANIFEST_PATH).display());
+    // Copy the committed SPIR-V and manifest into OUT_DIR (empty files when missing) so the
+    // binary embeds them and a missing build is reported at run time, not as a compile error.
+    let out = std::path::PathBuf::from(std::env::var("OUT_DIR").unwrap());
+    for (src, dst) in [
+        (shader_manifest::SPV_PATH, "shader-kernels.spv"),
+        (shader_manifest::MANIFEST_PATH, "shader-kernels.json"),
+    ] {
+        let bytes = std::fs::read(root.join(src)).unwrap_or_default();
+        std::fs::write(out.join(dst), bytes).unwrap();
+    }
+    let hash = shader_manifest::source_hash(root).expect("hashing shader sources");
+    println!("cargo:rustc-env=SHADER_SOURCE_HASH={hash}");
+}

@@ -1,0 +1,364 @@
+//! The GPU backend: headless wgpu on Vulkan, running the committed rust-gpu SPIR-V.
+//!
+//! The module is handed to the driver untouched (`PASSTHROUGH_SHADERS`) where the adapter allows,
+//! so the arithmetic the driver sees is exactly what rust-gpu emitted; otherwise it goes through
+//! naga's SPIR-V front end (which adds bounds checks). [`GpuContext::describe`] says which.
+
+use crate::shaders::ShaderModule;
+use crate::timing::{Timing, TimingSource};
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::sync::Mutex;
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+/// Why no GPU backend could be created.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "no Vulkan adapter found (is a Vulkan driver installed? on a CPU-only machine install Mesa \
+         lavapipe: `apt-get install -y mesa-vulkan-drivers libvulkan1`)"
+    )]
+    NoAdapter,
+    #[error("no Vulkan adapter matches HOST_ADAPTER={0:?}; available: {1}")]
+    NoMatchingAdapter(String, String),
+    #[error("the GPU SPIR-V cannot be used: {0}")]
+    Shader(String),
+    #[error("requesting a device from {0}: {1}")]
+    Device(String, String),
+    #[error("GPU error while running {0}: {1}")]
+    Runtime(String, String),
+}
+
+/// A headless GPU device with the kernels' module loaded.
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub passthrough: bool,
+    pub timestamps: bool,
+    pub limits: wgpu::Limits,
+    module: wgpu::ShaderModule,
+    pipelines: Mutex<HashMap<(String, usize, usize), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>>,
+}
+
+fn adapter_rank(t: wgpu::DeviceType) -> u32 {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+impl GpuContext {
+    /// Pick a Vulkan adapter (discrete > integrated > virtual > CPU; `HOST_ADAPTER=substring`
+    /// selects by name), create a device and load the SPIR-V.
+    pub fn new(shader: &ShaderModule) -> Result<Self, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::VULKAN;
+        let instance = wgpu::Instance::new(desc);
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+        if adapters.is_empty() {
+            return Err(GpuError::NoAdapter);
+        }
+        if let Ok(want) = std::env::var("HOST_ADAPTER") {
+            let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+            adapters.retain(|a| a.get_info().name.to_lowercase().contains(&want.to_lowercase()));
+            if adapters.is_empty() {
+                return Err(GpuError::NoMatchingAdapter(want, names.join(", ")));
+            }
+        }
+        adapters.sort_by_key(|a| adapter_rank(a.get_info().device_type));
+        let adapter = adapters.remove(0);
+        let info = adapter.get_info();
+        let features = adapter.features();
+        let passthrough = features.contains(wgpu::Features::PASSTHROUGH_SHADERS)
+            && std::env::var_os("HOST_NO_PASSTHROUGH").is_none();
+        let timestamps = features.contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut required = wgpu::Features::empty();
+        if passthrough {
+            required |= wgpu::Features::PASSTHROUGH_SHADERS;
+        }
+        if timestamps {
+            required |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("host"),
+            required_features: required,
+            required_limits: limits.clone(),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| GpuError::Device(info.name.clone(), e.to_string()))?;
+
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = if passthrough {
+            let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = shader
+                .manifest
+                .entry_points
+                .iter()
+                .map(|name| wgpu::PassthroughShaderEntryPoint {
+                    name: Cow::Owned(name.clone()),
+                    workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1),
+                })
+                .collect();
+            // SAFETY: the module is the one rust-gpu produced (validated by spirv-val during the
+            // build) and its manifest was checked against the sources; bindings are declared
+            // explicitly in `pipeline()` to match the entry points' signatures.
+            unsafe {
+                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                    label: Some("shader-kernels"),
+                    entry_points: Cow::Owned(entry_points),
+                    spirv: Some(Cow::Borrowed(&shader.words)),
+                    ..Default::default()
+                })
+            }
+        } else {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("shader-kernels"),
+                source: wgpu::ShaderSource::SpirV(Cow::Borrowed(&shader.words)),
+            })
+        };
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(err.to_string()));
+        }
+        Ok(GpuContext {
+            device,
+            queue,
+            info,
+            passthrough,
+            timestamps,
+            limits,
+            module,
+            pipelines: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// One line naming the adapter, driver and how shaders and timings are handled.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, driver {} {}); SPIR-V {}; timings from {}",
+            self.info.name,
+            self.info.device_type,
+            self.info.driver,
+            self.info.driver_info,
+            if self.passthrough { "passed through unchanged" } else { "translated by naga" },
+            if self.timestamps { "timestamp queries" } else { "wall clock" }
+        )
+    }
+
+    fn pipeline(&self, entry: &str, n_read: usize, n_write: usize) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+        let key = (entry.to_string(), n_read, n_write);
+        let mut cache = self.pipelines.lock().unwrap();
+        if let Some(p) = cache.get(&key) {
+            return p.clone();
+        }
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..n_read + n_write)
+            .map(|i| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: i < n_read },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let bgl = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(entry),
+            entries: &entries,
+        });
+        let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(entry),
+            bind_group_layouts: &[Some(&bgl)],
+            immediate_size: 0,
+        });
+        let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&layout),
+            module: &self.module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        cache.insert(key, (pipeline.clone(), bgl.clone()));
+        (pipeline, bgl)
+    }
+
+    /// Run entry point `entry` once over `groups` workgroups with bindings 0.. = `inputs`
+    /// (read-only storage) followed by `output_sizes.len()` read-write storage buffers of the
+    /// given byte sizes (zero-initialized, or copied from `output_init` where given), and read
+    /// the outputs back.
+    pub fn dispatch(
+        &self,
+        entry: &str,
+        inputs: &[&[u8]],
+        outputs: &[OutputSpec<'_>],
+        groups: (u32, u32, u32),
+    ) -> Result<(Vec<Vec<u8>>, Timing), GpuError> {
+        let (pipeline, bgl) = self.pipeline(entry, inputs.len(), outputs.len());
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let t0 = Instant::now();
+        let mut buffers = Vec::new();
+        for (i, data) in inputs.iter().enumerate() {
+            buffers.push(self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&format!("{entry} in{i}")),
+                contents: &padded(data),
+                usage: wgpu::BufferUsages::STORAGE,
+            }));
+        }
+        let mut readbacks = Vec::new();
+        for (i, spec) in outputs.iter().enumerate() {
+            let size = spec.size.max(4).next_multiple_of(4) as u64;
+            let buf = match spec.init {
+                Some(init) => self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&format!("{entry} out{i}")),
+                    contents: &padded(init),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                }),
+                None => self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&format!("{entry} out{i}")),
+                    size,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                }),
+            };
+            readbacks.push(self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(&format!("{entry} readback{i}")),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+            buffers.push(buf);
+        }
+        let bind_entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+            .collect();
+        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(entry),
+            layout: &bgl,
+            entries: &bind_entries,
+        });
+        let query = self.timestamps.then(|| {
+            let set = self.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            });
+            let resolve = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size: 16,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let read = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps readback"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            (set, resolve, read)
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(entry),
+                timestamp_writes: query.as_ref().map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                }),
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+        }
+        for (i, rb) in readbacks.iter().enumerate() {
+            let src = &buffers[inputs.len() + i];
+            encoder.copy_buffer_to_buffer(src, 0, rb, 0, rb.size());
+        }
+        if let Some((set, resolve, read)) = &query {
+            encoder.resolve_query_set(set, 0..2, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
+        }
+        self.queue.submit([encoder.finish()]);
+        let mut maps: Vec<&wgpu::Buffer> = readbacks.iter().collect();
+        if let Some((_, _, read)) = &query {
+            maps.push(read);
+        }
+        for b in &maps {
+            b.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping a readback buffer"));
+        }
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Runtime(entry.into(), e.to_string()))?;
+        let wall = t0.elapsed().as_secs_f64();
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Runtime(entry.into(), err.to_string()));
+        }
+        let mut results = Vec::new();
+        for (rb, spec) in readbacks.iter().zip(outputs) {
+            let view = rb
+                .get_mapped_range(..)
+                .map_err(|e| GpuError::Runtime(entry.into(), e.to_string()))?;
+            results.push(view[..spec.size].to_vec());
+            drop(view);
+            rb.unmap();
+        }
+        let timing = match &query {
+            Some((_, _, read)) => {
+                let view = read
+                    .get_mapped_range(..)
+                    .map_err(|e| GpuError::Runtime(entry.into(), e.to_string()))?;
+                let t: &[u64] = bytemuck::cast_slice(&view);
+                let ns = t[1].saturating_sub(t[0]) as f64 * f64::from(self.queue.get_timestamp_period());
+                drop(view);
+                read.unmap();
+                Timing { seconds: ns * 1e-9, source: TimingSource::TimestampQuery }
+            }
+            None => Timing { seconds: wall, source: TimingSource::WallClock },
+        };
+        Ok((results, timing))
+    }
+
+    /// Largest storage binding, in bytes.
+    pub fn max_binding_bytes(&self) -> usize {
+        (self.limits.max_storage_buffer_binding_size as usize).min(1 << 30)
+    }
+}
+
+/// A read-write buffer of `dispatch`: its size in bytes and optional initial contents.
+#[derive(Clone, Copy, Debug)]
+pub struct OutputSpec<'a> {
+    pub size: usize,
+    pub init: Option<&'a [u8]>,
+}
+
+impl OutputSpec<'_> {
+    pub fn zeroed(size: usize) -> Self {
+        OutputSpec { size, init: None }
+    }
+}
+
+fn padded(data: &[u8]) -> Cow<'_, [u8]> {
+    if data.len() >= 4 && data.len() % 4 == 0 {
+        Cow::Borrowed(data)
+    } else {
+        let mut v = data.to_vec();
+        v.resize(data.len().max(4).next_multiple_of(4), 0);
+        Cow::Owned(v)
+    }
+}
+
+/// Split `groups` workgroups into a 2D grid within the 65535-per-dimension limit.
+pub fn groups_2d(groups: u32) -> (u32, u32) {
+    let gx = groups.clamp(1, 65535);
+    (gx, groups.div_ceil(gx).max(1))
+}

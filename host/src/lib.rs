@@ -1,0 +1,11 @@
+//! Host side of the shading library: backends (GPU through wgpu, native CPU), the table
+//! evaluator behind `host eval`, and file I/O.
+
+pub mod backend;
+pub mod cpu;
+pub mod gpu;
+pub mod shaders;
+pub mod timing;
+
+pub use backend::{Backend, DeviceChoice};
+pub use timing::{Timing, TimingSource};

@@ -1,0 +1,34 @@
+//! Measured run times, labelled with how they were measured.
+
+/// Where a time came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimingSource {
+    /// GPU timestamp queries around the compute pass (kernel time only).
+    TimestampQuery,
+    /// Host wall clock (includes uploads, submission and readback on the GPU backend).
+    WallClock,
+}
+
+impl std::fmt::Display for TimingSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            TimingSource::TimestampQuery => "timestamp query",
+            TimingSource::WallClock => "wall clock",
+        })
+    }
+}
+
+/// A duration and how it was measured.
+#[derive(Clone, Copy, Debug)]
+pub struct Timing {
+    pub seconds: f64,
+    pub source: TimingSource,
+}
+
+impl Timing {
+    /// Sum of two timings; wall clock wins if either is wall clock.
+    pub fn add(self, o: Timing) -> Timing {
+        let source = if self.source == o.source { self.source } else { TimingSource::WallClock };
+        Timing { seconds: self.seconds + o.seconds, source }
+    }
+}

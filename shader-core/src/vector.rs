@@ -1,0 +1,120 @@
+//! Three-component vectors with a fixed evaluation order (no fused or reassociated arithmetic), so
+//! every operation rounds identically on the CPU and in SPIR-V.
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+use spirv_std::num_traits::Float;
+
+/// A direction or point in the local shading frame (normal = +z) or in world space.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Vec3 {
+    pub x: f32,
+    pub y: f32,
+    pub z: f32,
+}
+
+impl Vec3 {
+    pub const ZERO: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+    pub const Z: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+
+    #[inline]
+    pub const fn new(x: f32, y: f32, z: f32) -> Self {
+        Vec3 { x, y, z }
+    }
+
+    /// `x*x' + y*y' + z*z'`, summed left to right.
+    #[inline]
+    pub fn dot(self, o: Vec3) -> f32 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    #[inline]
+    pub fn cross(self, o: Vec3) -> Vec3 {
+        Vec3::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+
+    #[inline]
+    pub fn length_squared(self) -> f32 {
+        self.dot(self)
+    }
+
+    /// `sqrt(dot(v, v))` (correctly rounded sqrt; no hypot scaling, so |v| must be below ~1e19).
+    #[inline]
+    pub fn length(self) -> f32 {
+        Float::sqrt(self.length_squared())
+    }
+
+    /// `v / |v|` componentwise; the zero vector maps to NaN, see [`Vec3::normalize_or_zero`].
+    #[inline]
+    pub fn normalize(self) -> Vec3 {
+        let len = self.length();
+        Vec3::new(self.x / len, self.y / len, self.z / len)
+    }
+
+    /// `v / |v|`, or the zero vector when |v| is 0 or not finite.
+    #[inline]
+    pub fn normalize_or_zero(self) -> Vec3 {
+        let len = self.length();
+        if len > 0.0 && len < f32::INFINITY {
+            Vec3::new(self.x / len, self.y / len, self.z / len)
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Componentwise product.
+    #[inline]
+    pub fn mul_elem(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+
+    /// True when every component is finite (neither NaN nor infinite).
+    #[inline]
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+    }
+}
+
+impl Add for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn add(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl Sub for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn sub(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl Neg for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn neg(self) -> Vec3 {
+        Vec3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl Mul<f32> for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn mul(self, s: f32) -> Vec3 {
+        Vec3::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+impl Div<f32> for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn div(self, s: f32) -> Vec3 {
+        Vec3::new(self.x / s, self.y / s, self.z / s)
+    }
+}
