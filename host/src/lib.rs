@@ -9,3 +9,6 @@ pub mod timing;
 
 pub use backend::{Backend, DeviceChoice};
 pub use timing::{Timing, TimingSource};
+pub mod eval;
+pub mod grid;
+pub mod io;

@@ -5,6 +5,7 @@
 //! (normal = +z); every NDF and masking function takes `alpha_x, alpha_y`.
 
 use shader_core::{masking, ndf, Vec3};
+use spirv_std::num_traits::Float;
 
 /// One evaluable function: its id (the value the kernel dispatches on), name and columns.
 #[derive(Clone, Copy, Debug)]
@@ -19,6 +20,7 @@ pub struct FunctionInfo {
 pub const GGX_D: u32 = 1;
 pub const GGX_LAMBDA: u32 = 2;
 pub const GGX_G1: u32 = 3;
+pub const ARITH_PROBE: u32 = 4;
 
 /// Every function [`eval_row`] knows, in id order.
 pub const FUNCTIONS: &[FunctionInfo] = &[
@@ -43,6 +45,13 @@ pub const FUNCTIONS: &[FunctionInfo] = &[
         inputs: &["w_x", "w_y", "w_z", "alpha_x", "alpha_y"],
         outputs: &["g1"],
     },
+    FunctionInfo {
+        id: ARITH_PROBE,
+        name: "arith_probe",
+        summary: "The basic operations every kernel is built from: a+b, a-b, a*b, a/b, sqrt(a), 1/sqrt(a)",
+        inputs: &["a", "b"],
+        outputs: &["sum", "difference", "product", "quotient", "sqrt", "rsqrt"],
+    },
 ];
 
 #[inline]
@@ -58,6 +67,15 @@ pub fn eval_row(id: u32, x: &[f32], xb: usize, y: &mut [f32], yb: usize) {
         GGX_D => y[yb] = ndf::ggx_d(v3(x, xb), x[xb + 3], x[xb + 4]),
         GGX_LAMBDA => y[yb] = masking::ggx_lambda(v3(x, xb), x[xb + 3], x[xb + 4]),
         GGX_G1 => y[yb] = masking::ggx_g1(v3(x, xb), x[xb + 3], x[xb + 4]),
+        ARITH_PROBE => {
+            let (a, b) = (x[xb], x[xb + 1]);
+            y[yb] = a + b;
+            y[yb + 1] = a - b;
+            y[yb + 2] = a * b;
+            y[yb + 3] = a / b;
+            y[yb + 4] = Float::sqrt(a);
+            y[yb + 5] = 1.0 / Float::sqrt(a);
+        }
         _ => {}
     }
 }

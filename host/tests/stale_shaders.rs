@@ -1,0 +1,65 @@
+//! The GPU backend must refuse SPIR-V that was not built from the current shader sources.
+
+use host::shaders::{load_checked, MANIFEST_JSON, SOURCE_HASH, SPV_BYTES};
+use std::path::{Path, PathBuf};
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+}
+
+fn copy_shader_sources(to: &Path) {
+    let root = workspace_root();
+    for rel in shader_manifest::shader_source_files(&root).unwrap() {
+        let dst = to.join(&rel);
+        std::fs::create_dir_all(dst.parent().unwrap()).unwrap();
+        std::fs::copy(root.join(&rel), dst).unwrap();
+    }
+}
+
+#[test]
+fn committed_spirv_matches_the_sources_this_binary_was_built_from() {
+    // Fails when a shader-core/shader-kernels edit was committed without `cargo xtask build-shaders`.
+    let m = load_checked(SPV_BYTES, MANIFEST_JSON, SOURCE_HASH);
+    assert!(m.is_ok(), "{}", m.unwrap_err());
+}
+
+#[test]
+fn editing_a_shader_core_function_without_rebuilding_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_shader_sources(dir.path());
+    // The copy hashes like the tree the binary was built from...
+    assert_eq!(shader_manifest::source_hash(dir.path()).unwrap(), SOURCE_HASH);
+    // ...until a shader-core function changes.
+    let ndf = dir.path().join("shader-core/src/ndf.rs");
+    let text = std::fs::read_to_string(&ndf).unwrap();
+    let edited = text.replacen("r * r / (PI * alpha_x * alpha_y)", "r * r / (2.0 * PI * alpha_x * alpha_y)", 1);
+    assert_ne!(text, edited, "the edit must apply");
+    std::fs::write(&ndf, edited).unwrap();
+    let new_hash = shader_manifest::source_hash(dir.path()).unwrap();
+    assert_ne!(new_hash, SOURCE_HASH);
+    let err = load_checked(SPV_BYTES, MANIFEST_JSON, &new_hash).unwrap_err();
+    assert!(err.contains("cargo xtask build-shaders"), "{err}");
+    assert!(err.contains("stale"), "{err}");
+}
+
+#[test]
+fn a_new_shader_source_file_changes_the_hash() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_shader_sources(dir.path());
+    std::fs::write(dir.path().join("shader-core/src/extra.rs"), "pub fn f() {}\n").unwrap();
+    assert_ne!(shader_manifest::source_hash(dir.path()).unwrap(), SOURCE_HASH);
+}
+
+#[test]
+fn missing_or_malformed_spirv_is_refused_with_a_clear_message() {
+    let err = load_checked(&[], MANIFEST_JSON, SOURCE_HASH).unwrap_err();
+    assert!(err.contains("cargo xtask build-shaders"), "{err}");
+    let err = load_checked(SPV_BYTES, "{ not json", SOURCE_HASH).unwrap_err();
+    assert!(err.contains("malformed shader manifest"), "{err}");
+    let err = load_checked(&SPV_BYTES[..SPV_BYTES.len() - 2], MANIFEST_JSON, SOURCE_HASH).unwrap_err();
+    assert!(err.contains("whole number of 32-bit words"), "{err}");
+    let mut bad = SPV_BYTES.to_vec();
+    bad[0] ^= 0xff;
+    let err = load_checked(&bad, MANIFEST_JSON, SOURCE_HASH).unwrap_err();
+    assert!(err.contains("magic"), "{err}");
+}
