@@ -7,6 +7,7 @@
 
 pub mod masking;
 pub mod ndf;
+pub mod rng;
 pub mod vector;
 
 pub use vector::Vec3;

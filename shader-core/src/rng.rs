@@ -1,0 +1,137 @@
+//! Random and low-discrepancy numbers from integer operations only (identical on CPU and GPU).
+
+/// PCG hash of one 32-bit word (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering", pcg).
+#[inline]
+pub fn pcg_hash(v: u32) -> u32 {
+    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
+/// A PCG32 generator (O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient Statistically
+/// Good Algorithms for Random Number Generation", XSH-RR 64/32) with 64-bit state kept as two u32
+/// words so it runs without the Int64 capability.
+#[derive(Clone, Copy, Debug)]
+pub struct Pcg32 {
+    lo: u32,
+    hi: u32,
+    inc_lo: u32,
+    inc_hi: u32,
+}
+
+/// 64-bit multiply-add on (hi, lo) pairs: a * b + c mod 2^64.
+#[inline]
+fn mul_add_u64(a_hi: u32, a_lo: u32, b_hi: u32, b_lo: u32, c_hi: u32, c_lo: u32) -> (u32, u32) {
+    // a_lo * b_lo as a full 64-bit product from 16-bit halves.
+    let (a0, a1) = (a_lo & 0xffff, a_lo >> 16);
+    let (b0, b1) = (b_lo & 0xffff, b_lo >> 16);
+    let p00 = a0 * b0;
+    let p01 = a0 * b1;
+    let p10 = a1 * b0;
+    let p11 = a1 * b1;
+    let mid = (p00 >> 16) + (p01 & 0xffff) + (p10 & 0xffff);
+    let lo = (p00 & 0xffff) | (mid << 16);
+    let hi = p11 + (p01 >> 16) + (p10 >> 16) + (mid >> 16);
+    let hi = hi
+        .wrapping_add(a_hi.wrapping_mul(b_lo))
+        .wrapping_add(a_lo.wrapping_mul(b_hi));
+    let (lo2, carry) = lo.overflowing_add(c_lo);
+    let hi2 = hi.wrapping_add(c_hi).wrapping_add(carry as u32);
+    (hi2, lo2)
+}
+
+impl Pcg32 {
+    const MUL_HI: u32 = 0x5851_f42d;
+    const MUL_LO: u32 = 0x4c95_7f2d;
+
+    /// Seed with a sequence index (stream) and an offset, as PCG's `pcg32_srandom`.
+    #[inline]
+    pub fn new(seed: u32, stream: u32) -> Self {
+        // inc = (stream << 1) | 1 as a 64-bit value.
+        let mut r = Pcg32 { lo: 0, hi: 0, inc_lo: (stream << 1) | 1, inc_hi: stream >> 31 };
+        r.next_u32();
+        let (lo, c) = r.lo.overflowing_add(seed);
+        r.lo = lo;
+        r.hi = r.hi.wrapping_add(c as u32);
+        r.next_u32();
+        r
+    }
+
+    /// The next 32 random bits.
+    #[inline]
+    pub fn next_u32(&mut self) -> u32 {
+        let (old_hi, old_lo) = (self.hi, self.lo);
+        let (hi, lo) = mul_add_u64(old_hi, old_lo, Self::MUL_HI, Self::MUL_LO, self.inc_hi, self.inc_lo);
+        self.hi = hi;
+        self.lo = lo;
+        // xorshifted = ((old >> 18) ^ old) >> 27, as 32 bits.
+        let s_lo = (old_lo >> 18) | (old_hi << 14);
+        let s_hi = old_hi >> 18;
+        let x_lo = s_lo ^ old_lo;
+        let x_hi = s_hi ^ old_hi;
+        let xorshifted = (x_lo >> 27) | (x_hi << 5);
+        let rot = old_hi >> 27;
+        xorshifted.rotate_right(rot)
+    }
+
+    /// A uniform float in [0, 1).
+    #[inline]
+    pub fn next_f32(&mut self) -> f32 {
+        u32_to_unit_f32(self.next_u32())
+    }
+}
+
+/// The top 24 bits of `bits` as a float in [0, 1) (exact: every value is k / 2^24).
+#[inline]
+pub fn u32_to_unit_f32(bits: u32) -> f32 {
+    (bits >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// Reverse the bits of a 32-bit word with shifts and masks.
+#[inline]
+pub fn reverse_bits(mut v: u32) -> u32 {
+    v = ((v >> 1) & 0x5555_5555) | ((v & 0x5555_5555) << 1);
+    v = ((v >> 2) & 0x3333_3333) | ((v & 0x3333_3333) << 2);
+    v = ((v >> 4) & 0x0f0f_0f0f) | ((v & 0x0f0f_0f0f) << 4);
+    v = ((v >> 8) & 0x00ff_00ff) | ((v & 0x00ff_00ff) << 8);
+    (v >> 16) | (v << 16)
+}
+
+/// Van der Corput radical inverse in base 2 of `i`, in [0, 1).
+#[inline]
+pub fn radical_inverse_base2(i: u32) -> f32 {
+    u32_to_unit_f32(reverse_bits(i))
+}
+
+/// The i-th point of the 2D Sobol sequence (first two dimensions; Joe & Kuo direction numbers:
+/// dimension 1 is the van der Corput sequence, dimension 2 uses primitive polynomial x + 1),
+/// optionally Owen-free XOR-scrambled by `scramble` (two words).
+#[inline]
+pub fn sobol_2d(i: u32, scramble_x: u32, scramble_y: u32) -> (f32, f32) {
+    let x = reverse_bits(i) ^ scramble_x;
+    // Dimension 2: v_k = the Pascal-triangle-mod-2 direction numbers, via the Gray-code-free
+    // product: y = sum over set bits k of i of v_k.
+    let mut y: u32 = 0;
+    let mut v: u32 = 1 << 31;
+    let mut bits = i;
+    let mut k = 0;
+    while bits != 0 && k < 32 {
+        if bits & 1 != 0 {
+            y ^= v;
+        }
+        v ^= v >> 1;
+        bits >>= 1;
+        k += 1;
+    }
+    (u32_to_unit_f32(x), u32_to_unit_f32(y ^ scramble_y))
+}
+
+/// The i-th point of the R2 sequence (Roberts 2018, plastic-constant Kronecker lattice), computed
+/// in 32-bit fixed point so it is exact and identical everywhere; `offset` is a per-stream shift.
+#[inline]
+pub fn r2(i: u32, offset_x: u32, offset_y: u32) -> (f32, f32) {
+    // 2^32 / g and 2^32 / g^2 with g = 1.32471795724474602596 (plastic number).
+    let x = i.wrapping_mul(3_242_174_889).wrapping_add(offset_x);
+    let y = i.wrapping_mul(2_447_445_413).wrapping_add(offset_y);
+    (u32_to_unit_f32(x), u32_to_unit_f32(y))
+}
