@@ -12,3 +12,7 @@ pub use timing::{Timing, TimingSource};
 pub mod eval;
 pub mod grid;
 pub mod io;
+pub mod ssr;
+pub mod bench_microfacet;
+pub mod ggx_fp16;
+pub mod microfacet_ref;

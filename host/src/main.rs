@@ -74,6 +74,15 @@ enum Cmd {
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
     },
+    /// Screen-space reflections (HDRP or stochastic SSR) on a built-in scene or an EXR G-buffer.
+    ///
+    /// Writes the reflection EXR (premultiplied RGB + opacity, the composite over the sky, hit
+    /// mask, steps, and the ray-traced reference for built-in scenes) with PNG previews and debug
+    /// views beside it, and prints the time per pass and the error against the reference.
+    /// `host ssr bench` runs every configuration on every scene and writes the report.
+    Ssr(host::ssr::cli::SsrCommand),
+    /// Cost and accuracy benchmarks: `host bench microfacet` (writes docs/microfacet-cost.md and .png).
+    Bench(host::bench_microfacet::BenchCli),
 }
 
 fn main() {
@@ -86,6 +95,7 @@ fn main() {
 fn run(cli: Cli) -> Result<()> {
     match cli.cmd {
         Cmd::Info { device } => info(device),
+        Cmd::Bench(b) => b.run(),
         Cmd::Eval { function, list, input, output, device, allow_nonfinite } => {
             if list {
                 print!("{}", host::eval::list());
@@ -114,6 +124,7 @@ fn run(cli: Cli) -> Result<()> {
             eprintln!("{}: {} rows in {:.3} ms ({})", f.name, table.rows, t.seconds * 1e3, t.source);
             Ok(())
         }
+        Cmd::Ssr(cmd) => host::ssr::cli::main(cmd),
         Cmd::Grid { output, width, height, alpha_min, alpha_max, aspect, device } => {
             let spec = host::grid::GridSpec { width, height, alpha_min, alpha_max, aspect };
             spec.validate()?;

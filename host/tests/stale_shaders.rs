@@ -32,7 +32,10 @@ fn editing_a_shader_core_function_without_rebuilding_is_refused() {
     // ...until a shader-core function changes.
     let ndf = dir.path().join("shader-core/src/ndf.rs");
     let text = std::fs::read_to_string(&ndf).unwrap();
-    let edited = text.replacen("r * r / (PI * alpha_x * alpha_y)", "r * r / (2.0 * PI * alpha_x * alpha_y)", 1);
+    // Change the body of `ggx_d`: scale its result by 2 right after the signature's opening brace.
+    let at = text.find("pub fn ggx_d(").expect("ndf.rs defines ggx_d");
+    let brace = at + text[at..].find('{').unwrap() + 1;
+    let edited = format!("{}\n    if wm.z > 0.0 {{ return 2.0; }}{}", &text[..brace], &text[brace..]);
     assert_ne!(text, edited, "the edit must apply");
     std::fs::write(&ndf, edited).unwrap();
     let new_hash = shader_manifest::source_hash(dir.path()).unwrap();
@@ -62,4 +65,17 @@ fn missing_or_malformed_spirv_is_refused_with_a_clear_message() {
     bad[0] ^= 0xff;
     let err = load_checked(&bad, MANIFEST_JSON, SOURCE_HASH).unwrap_err();
     assert!(err.contains("magic"), "{err}");
+}
+
+#[test]
+fn committed_spirv_forbids_contraction_and_keeps_signed_zeros() {
+    let words = shader_manifest::spirv_words(SPV_BYTES);
+    let (total, covered) = shader_manifest::no_contraction_coverage(&words).unwrap();
+    assert!(total > 0);
+    assert_eq!(covered, total, "float ops without NoContraction: rerun `cargo xtask build-shaders`");
+    assert_eq!(
+        shader_manifest::preserve_signed_zero_inf_nan(&words).unwrap(),
+        words,
+        "SignedZeroInfNanPreserve missing: rerun `cargo xtask build-shaders`"
+    );
 }

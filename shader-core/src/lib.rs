@@ -5,9 +5,16 @@
 //! results agree to the bit on conforming devices (see README, "Bit-exactness").
 #![no_std]
 
+pub mod bxdf;
+pub mod complex;
+pub mod fresnel;
 pub mod masking;
+pub mod math;
 pub mod ndf;
 pub mod rng;
+pub mod ssr;
 pub mod vector;
+pub mod vndf;
+pub mod warp;
 
 pub use vector::Vec3;

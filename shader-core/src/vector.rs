@@ -77,6 +77,38 @@ impl Vec3 {
     pub fn is_finite(self) -> bool {
         self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
     }
+
+    /// The same direction scaled by an exact power of two so that its largest component magnitude
+    /// lies in [1, 2). Scale-invariant functions call this first so that any finite non-zero
+    /// vector (denormal or huge components included) can be squared and summed without underflow
+    /// or overflow; for vectors whose squares stay normal the scaling commutes with every
+    /// correctly rounded operation, so results are bit-identical to the unscaled evaluation.
+    /// Zero vectors and vectors with an infinite component are returned unchanged (NaN stays NaN).
+    #[inline]
+    pub fn pow2_rescaled(self) -> Vec3 {
+        let (ax, ay, az) = (self.x.abs(), self.y.abs(), self.z.abs());
+        let mut m = if ax > ay { ax } else { ay };
+        if az > m {
+            m = az;
+        }
+        if !(m > 0.0 && m < f32::INFINITY) {
+            return self;
+        }
+        let mut v = self;
+        if m < 1.0e-20 {
+            let s = f32::from_bits(0x5f80_0000); // 2^64
+            v = v * s;
+            m = m * s;
+        }
+        if m > 1.0e20 {
+            let s = f32::from_bits(0x1f80_0000); // 2^-64
+            v = v * s;
+            m = m * s;
+        }
+        // m is now a normal number with biased exponent e in [42, 194]; 2^(127 - e) is normal.
+        let e = (m.to_bits() >> 23) & 0xff;
+        v * f32::from_bits((254 - e) << 23)
+    }
 }
 
 impl Add for Vec3 {

@@ -6,7 +6,11 @@
 //! GPU-specific code. On non-SPIR-V targets the `spirv` attribute is inert.
 #![no_std]
 
+pub mod bxdf_table;
+pub mod microfacet_table;
+pub mod ssr;
 pub mod table;
+pub mod vndf_table;
 
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;

@@ -142,3 +142,176 @@ mod tests {
         assert_eq!(normalize_newlines(b"a\r\nb\n"), b"a\nb\n".to_vec());
     }
 }
+
+/// SPIR-V opcodes of floating-point arithmetic that a driver could contract (fuse into an FMA)
+/// or rewrite with inexact algebra: OpFNegate, OpFAdd, OpFSub, OpFMul, OpFDiv, OpFRem, OpFMod,
+/// OpVectorTimesScalar, OpMatrixTimesScalar, OpVectorTimesMatrix, OpMatrixTimesVector,
+/// OpMatrixTimesMatrix, OpDot.
+pub const FLOAT_ARITHMETIC_OPCODES: [u32; 13] = [127, 129, 131, 133, 136, 140, 141, 142, 143, 144, 145, 146, 148];
+const OP_DECORATE: u32 = 71;
+const DECORATION_NO_CONTRACTION: u32 = 42;
+/// Opcodes of the annotation section (OpDecorate ... OpMemberDecorateString).
+const ANNOTATION_OPCODES: [u32; 8] = [71, 72, 73, 74, 75, 332, 5632, 5633];
+/// Opcodes with a result type and result id whose first operands are (type, id).
+const HEADER_WORDS: usize = 5;
+
+/// Split a module into (opcode, word range) instructions; errors on a malformed stream.
+fn instructions(words: &[u32]) -> Result<Vec<(u32, std::ops::Range<usize>)>, String> {
+    if words.len() < HEADER_WORDS || words[0] != 0x0723_0203 {
+        return Err("not a SPIR-V module (bad magic number or header)".into());
+    }
+    let mut out = Vec::new();
+    let mut i = HEADER_WORDS;
+    while i < words.len() {
+        let count = (words[i] >> 16) as usize;
+        if count == 0 || i + count > words.len() {
+            return Err(format!("malformed SPIR-V instruction at word {i}"));
+        }
+        out.push((words[i] & 0xffff, i..i + count));
+        i += count;
+    }
+    Ok(out)
+}
+
+/// Decorate the result of every floating-point arithmetic instruction with `NoContraction`.
+///
+/// rust-gpu emits none, and without it a Vulkan driver may fuse `a * b + c` into an FMA or apply
+/// inexact algebra (Mesa's NIR rewrites `(1 + x) - 1` to `x`), which breaks bit-exactness with
+/// the CPU. With it, NIR marks those instructions exact. Idempotent.
+pub fn decorate_no_contraction(words: &[u32]) -> Result<Vec<u32>, String> {
+    let insts = instructions(words)?;
+    let mut already = std::collections::HashSet::new();
+    let mut targets = Vec::new();
+    let mut last_annotation = None;
+    let mut first_type = None;
+    for (op, r) in &insts {
+        if ANNOTATION_OPCODES.contains(op) {
+            last_annotation = Some(r.end);
+            if *op == OP_DECORATE && r.len() >= 3 && words[r.start + 2] == DECORATION_NO_CONTRACTION {
+                already.insert(words[r.start + 1]);
+            }
+        }
+        // Types, constants and global variables start at OpTypeVoid (19) .. OpTypeForwardPointer (39),
+        // constants 41..52, OpVariable 59 at module scope: the annotation section ends before them.
+        if first_type.is_none() && ((19..=52).contains(op)) {
+            first_type = Some(r.start);
+        }
+        if FLOAT_ARITHMETIC_OPCODES.contains(op) && r.len() >= 3 {
+            targets.push(words[r.start + 2]);
+        }
+    }
+    let at = last_annotation
+        .or(first_type)
+        .ok_or("SPIR-V module has neither annotations nor types")?;
+    let mut out = Vec::with_capacity(words.len() + 3 * targets.len());
+    out.extend_from_slice(&words[..at]);
+    for id in targets {
+        if already.insert(id) {
+            out.extend_from_slice(&[(3 << 16) | OP_DECORATE, id, DECORATION_NO_CONTRACTION]);
+        }
+    }
+    out.extend_from_slice(&words[at..]);
+    Ok(out)
+}
+
+const OP_CAPABILITY: u32 = 17;
+const OP_ENTRY_POINT: u32 = 15;
+const OP_EXECUTION_MODE: u32 = 16;
+const CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE: u32 = 4466;
+const MODE_SIGNED_ZERO_INF_NAN_PRESERVE: u32 = 4461;
+
+/// Declare `SignedZeroInfNanPreserve` (SPIR-V 1.4 float controls) for 32-bit floats on every
+/// entry point, so the driver may not fold away the sign of zero or assume no NaN/Inf (e.g.
+/// rewrite `0 * x` or `x + 0`), as the CPU's IEEE arithmetic does not. Idempotent.
+pub fn preserve_signed_zero_inf_nan(words: &[u32]) -> Result<Vec<u32>, String> {
+    let insts = instructions(words)?;
+    let mut last_capability = None;
+    let mut has_capability = false;
+    let mut entry_ids = Vec::new();
+    let mut has_mode = std::collections::HashSet::new();
+    let mut mode_at = None;
+    for (op, r) in &insts {
+        match *op {
+            OP_CAPABILITY => {
+                last_capability = Some(r.end);
+                has_capability |= words[r.start + 1] == CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE;
+            }
+            OP_ENTRY_POINT => {
+                entry_ids.push(words[r.start + 2]);
+                mode_at = Some(r.end);
+            }
+            OP_EXECUTION_MODE => {
+                if words[r.start + 2] == MODE_SIGNED_ZERO_INF_NAN_PRESERVE {
+                    has_mode.insert(words[r.start + 1]);
+                }
+                mode_at = Some(r.end);
+            }
+            _ => {}
+        }
+    }
+    let cap_at = last_capability.ok_or("SPIR-V module declares no capabilities")?;
+    let mode_at = mode_at.ok_or("SPIR-V module has no entry points")?;
+    let mut out = Vec::with_capacity(words.len() + 2 + 4 * entry_ids.len());
+    out.extend_from_slice(&words[..cap_at]);
+    if !has_capability {
+        out.extend_from_slice(&[(2 << 16) | OP_CAPABILITY, CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE]);
+    }
+    out.extend_from_slice(&words[cap_at..mode_at]);
+    for id in entry_ids {
+        if has_mode.insert(id) {
+            out.extend_from_slice(&[(4 << 16) | OP_EXECUTION_MODE, id, MODE_SIGNED_ZERO_INF_NAN_PRESERVE, 32]);
+        }
+    }
+    out.extend_from_slice(&words[mode_at..]);
+    Ok(out)
+}
+
+/// (float arithmetic instructions, how many of them carry NoContraction).
+pub fn no_contraction_coverage(words: &[u32]) -> Result<(usize, usize), String> {
+    let insts = instructions(words)?;
+    let mut decorated = std::collections::HashSet::new();
+    for (op, r) in &insts {
+        if *op == OP_DECORATE && r.len() >= 3 && words[r.start + 2] == DECORATION_NO_CONTRACTION {
+            decorated.insert(words[r.start + 1]);
+        }
+    }
+    let mut total = 0;
+    let mut covered = 0;
+    for (op, r) in &insts {
+        if FLOAT_ARITHMETIC_OPCODES.contains(op) && r.len() >= 3 {
+            total += 1;
+            covered += decorated.contains(&words[r.start + 2]) as usize;
+        }
+    }
+    Ok((total, covered))
+}
+
+/// Little-endian bytes to SPIR-V words.
+pub fn spirv_words(bytes: &[u8]) -> Vec<u32> {
+    bytes.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()
+}
+
+#[cfg(test)]
+mod spirv_tests {
+    use super::*;
+
+    #[test]
+    fn decorates_every_float_op_once() {
+        // header, OpDecorate %1 Binding 0, OpTypeFloat %2 32, OpFAdd %2 %3 %4 %5, OpFMul %2 %6 %3 %3
+        let words = vec![
+            0x0723_0203, 0x0001_0500, 0, 10, 0,
+            (3 << 16) | 71, 1, 33,
+            (3 << 16) | 22, 2, 32,
+            (5 << 16) | 129, 2, 3, 4, 5,
+            (5 << 16) | 133, 2, 6, 3, 3,
+        ];
+        assert_eq!(no_contraction_coverage(&words).unwrap(), (2, 0));
+        let out = decorate_no_contraction(&words).unwrap();
+        assert_eq!(no_contraction_coverage(&out).unwrap(), (2, 2));
+        assert_eq!(out.len(), words.len() + 6);
+        // Decorations go right after the existing annotation.
+        assert_eq!(&out[8..14], &[(3 << 16) | 71, 3, 42, (3 << 16) | 71, 6, 42]);
+        assert_eq!(decorate_no_contraction(&out).unwrap(), out, "idempotent");
+        assert!(decorate_no_contraction(&[1, 2, 3]).is_err());
+    }
+}

@@ -10,6 +10,7 @@ use host::{Backend, DeviceChoice};
 use std::fmt::Write as _;
 use std::sync::OnceLock;
 
+pub mod chi2;
 pub mod inputs;
 
 /// Is this a CI run (`CI=true`)? There, a GPU comparison that cannot run is a failure.

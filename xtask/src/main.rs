@@ -94,11 +94,22 @@ fn build_shaders(check: bool) -> Result<()> {
     builder.multimodule = false;
     builder.build_script.defaults = false;
     builder.spirv_metadata = cargo_gpu_install::spirv_builder::SpirvMetadata::None;
+    // spirv-opt reassociates float arithmetic with constants (SPIRV-Tools folding rules apply to
+    // every float op not decorated NoContraction), which breaks bit-exactness with the CPU. The
+    // driver optimizes the module anyway, under the NoContraction decorations added below.
+    builder.extra_args.push("--no-spirv-opt".into());
     // Keep the shader build's own target dir outside the host's so a host `cargo build` never races it.
     builder.target_dir_path = Some(root.join("target").join("spirv-builder"));
     let result = builder.build().context("compiling shader-kernels to SPIR-V")?;
     let spv_path = result.module.unwrap_single().to_path_buf();
-    let spv = std::fs::read(&spv_path).with_context(|| format!("reading {}", spv_path.display()))?;
+    let raw = std::fs::read(&spv_path).with_context(|| format!("reading {}", spv_path.display()))?;
+    // Forbid the driver from contracting or reassociating float arithmetic (see shader-manifest).
+    let words = shader_manifest::decorate_no_contraction(&shader_manifest::spirv_words(&raw))
+        .map_err(anyhow::Error::msg)?;
+    let words = shader_manifest::preserve_signed_zero_inf_nan(&words).map_err(anyhow::Error::msg)?;
+    let (total, covered) = shader_manifest::no_contraction_coverage(&words).map_err(anyhow::Error::msg)?;
+    eprintln!("[build-shaders] NoContraction on {covered} of {total} float arithmetic instructions");
+    let spv: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let mut entry_points = result.entry_points.clone();
     entry_points.sort();
     eprintln!(
@@ -200,14 +211,14 @@ fn test(install_lavapipe: bool, rest: &[String]) -> Result<()> {
     }
     let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
     cmd.current_dir(&root)
-        .args(["test", "--workspace", "--release"])
+        .args(["test", "--workspace", "--release", "--no-fail-fast"])
         .args(rest);
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         let dir = std::env::temp_dir().join("xdg-runtime");
         std::fs::create_dir_all(&dir)?;
         cmd.env("XDG_RUNTIME_DIR", dir);
     }
-    eprintln!("[test] cargo test --workspace --release {}", rest.join(" "));
+    eprintln!("[test] cargo test --workspace --release --no-fail-fast {}", rest.join(" "));
     let status = cmd.status().context("running cargo test")?;
     if !status.success() {
         bail!("tests failed");

@@ -1,0 +1,628 @@
+//! `host bench microfacet`: cost and accuracy of the microfacet approximations.
+//!
+//! Three groups, each measured against an f64 reference over a documented grid
+//! ([`crate::microfacet_ref`]):
+//!
+//! * **Visibility** V = G2 / (4 n.l n.v): every engine form against the exact isotropic
+//!   height-correlated Smith-GGX V. Grid: theta_v, theta_l in [0, 89.9] degrees (`--grid` values
+//!   each, uniform in angle), the azimuth between them in [0, pi] (8 values; it matters only for
+//!   the forms that read n.h or v.h), alpha log-spaced in [1e-3, 1] (16 values).
+//! * **GGX D forms**: the scale-invariant `ggx_d`, `gtr2_d`, UE4's n.h form, Filament's naive and
+//!   Lagrange ("mobile") forms in f32, and the two mobile forms in emulated fp16
+//!   ([`crate::ggx_fp16`]), against the exact D at the exact half vector. Grid: alpha log-spaced in
+//!   [2^-7, 1] (16 values; below about 2^-8 Filament's intermediate k^2 = pi D overflows fp16 at
+//!   the peak, which would hide the cancellation this group is about), tan(theta_h) = alpha t with
+//!   t uniform in [0, 10] (`--grid` x 64 values: the lobe down to D/D(0) = 1e-4), azimuth 0.3 rad.
+//! * **Beckmann Lambda / G1**: exact (erfc) and Walter's rational approximation, against the f64
+//!   exact Lambda. Grid: theta in [0, 89.9] degrees (`--grid` x 32 values), alpha log-spaced in
+//!   [1e-3, 1] (32 values).
+//!
+//! Inputs are rounded to f32 before evaluation; the reference is evaluated at the f32 inputs,
+//! except for the GGX D forms, whose reference is at the exact (f64) half vector: the rounding of
+//! n.h to f32 or fp16 is the very error those forms differ in. Errors are relative,
+//! |x - ref| / max(|ref|, 2^-126): a reference below the normal f32 range (a Beckmann Lambda of
+//! 1e-300, say) counts in absolute terms, since no f32 result can be relatively close to it.
+//!
+//! Cost: each registered function runs over `--rows` rows (the grid's inputs repeated) on the CPU
+//! backend (wall clock, all threads) and on the GPU backend (timestamp queries around the compute
+//! pass where the adapter has them, else wall clock), `--repeats` times after one warm-up run; the
+//! median is reported as evaluations per second. The fp16 forms have no kernel (the kernels are
+//! f32): they are evaluated on the host for their error only.
+
+use crate::backend::{Backend, DeviceChoice};
+use crate::eval::find_function;
+use crate::ggx_fp16;
+use crate::microfacet_ref as r64;
+use anyhow::{bail, Context, Result};
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// `host bench ...`.
+#[derive(clap::Args, Debug)]
+pub struct BenchCli {
+    #[command(subcommand)]
+    pub what: BenchWhat,
+}
+
+/// The benchmarks.
+#[derive(clap::Subcommand, Debug)]
+pub enum BenchWhat {
+    /// Error (vs f64 references) and evaluations/s (CPU and GPU backends) of the visibility
+    /// approximations, the GGX D forms (fp32 and emulated fp16) and the Beckmann Lambda (exact vs
+    /// Walter). Writes a markdown table and a PNG scatter plot (error vs evaluations/s).
+    Microfacet(MicrofacetArgs),
+}
+
+/// Options of `host bench microfacet`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MicrofacetArgs {
+    /// GPU backend to time besides the CPU backend: auto (a Vulkan adapter if there is one),
+    /// gpu (required), cpu (CPU backend only).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub device: DeviceChoice,
+    /// Rows per timed evaluation (batch size).
+    #[arg(long, default_value_t = 1 << 20)]
+    pub rows: usize,
+    /// Timed runs per function and backend (after one warm-up); the median is reported.
+    #[arg(long, default_value_t = 5)]
+    pub repeats: usize,
+    /// Error-grid resolution: angle samples per axis of the visibility grid (the other grids scale with it).
+    #[arg(long, default_value_t = 64)]
+    pub grid: usize,
+    /// Markdown report.
+    #[arg(long, short, default_value = "docs/microfacet-cost.md")]
+    pub output: PathBuf,
+    /// PNG scatter plot (error vs evaluations/s).
+    #[arg(long, default_value = "docs/microfacet-cost.png")]
+    pub plot: PathBuf,
+    /// Skip timing (errors only).
+    #[arg(long)]
+    pub no_timing: bool,
+}
+
+impl BenchCli {
+    pub fn run(self) -> Result<()> {
+        match self.what {
+            BenchWhat::Microfacet(a) => run(&a),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Group {
+    Visibility,
+    GgxD,
+    Beckmann,
+}
+
+impl Group {
+    fn title(self) -> &'static str {
+        match self {
+            Group::Visibility => "Visibility V = G2 / (4 n.l n.v) vs exact height-correlated Smith-GGX",
+            Group::GgxD => "GGX D forms (fp32 kernels, fp16 emulated) vs exact D at the exact half vector",
+            Group::Beckmann => "Beckmann Lambda / G1: exact (erfc) vs Walter's rational, vs f64 exact",
+        }
+    }
+}
+
+/// One grid point: every quantity a case may read, and the references.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    /// f32-rounded inputs.
+    nv: f32,
+    nl: f32,
+    nh: f32,
+    vh: f32,
+    alpha: f32,
+    w: [f32; 3],
+    /// Exact (f64) half vector or direction, for the D forms.
+    h64: [f64; 3],
+    /// Reference value for V / D / Lambda; G1 reference for the G1 cases.
+    reference: f64,
+    reference_g1: f64,
+    /// Where, for the "worst at" column.
+    theta_deg: f64,
+    theta2_deg: f64,
+}
+
+/// A measured case.
+struct Case {
+    name: &'static str,
+    group: Group,
+    source: &'static str,
+    /// Evaluated by a registered kernel (timed) or on the host (fp16 emulation).
+    host_eval: Option<fn(&Point) -> f32>,
+    /// Compare against `reference_g1` rather than `reference`.
+    g1: bool,
+}
+
+fn cases() -> Vec<Case> {
+    use Group::*;
+    let k = |name, group, source| Case { name, group, source, host_eval: None, g1: false };
+    vec![
+        k("v_frostbite", Visibility, "Lagarde 2014 listing 2 (exact)"),
+        k("v_hdrp", Visibility, "HDRP V_SmithJointGGX (exact)"),
+        k("v_filament", Visibility, "Filament V_SmithGGXCorrelated (exact)"),
+        k("v_hdrp_approx", Visibility, "HDRP, PartLambdaVApprox (view linearized)"),
+        k("v_ue4", Visibility, "UE4 Vis_SmithJointApprox"),
+        k("v_respawn", Visibility, "Hammon 2017 (RTR4 eq. 9.43)"),
+        k("v_filament_fast", Visibility, "Filament _Fast (= Hammon)"),
+        k("v_schlick_smith", Visibility, "Schlick-Smith, k = alpha/2 (Karis 2013)"),
+        k("v_schlick_smith_remapped", Visibility, "Schlick-Smith, k = (r+1)^2/8 (Karis 2013)"),
+        k("v_neumann", Visibility, "Neumann 1999"),
+        k("v_kelemen", Visibility, "Kelemen & Szirmay-Kalos 2001"),
+        k("v_implicit", Visibility, "implicit, V = 1/4"),
+        k("v_cook_torrance", Visibility, "Cook-Torrance V-cavity"),
+        k("ggx_d", GgxD, "scale-invariant vector form (Heitz 2014 eq. 85)"),
+        k("gtr2_d", GgxD, "GTR2 vector form (Burley 2012)"),
+        k("ggx_d_ue4", GgxD, "UE4 D_GGX from f32 n.h"),
+        k("ggx_d_mobile_naive", GgxD, "Filament D_GGX, 1 - NoH^2 (f32)"),
+        k("ggx_d_mobile", GgxD, "Filament D_GGX, |n x h|^2 (f32)"),
+        Case {
+            name: "fp16 mobile naive",
+            group: GgxD,
+            source: "seed GGX_Mobile, 1 - NoH^2, emulated fp16",
+            host_eval: Some(|p| ggx_fp16::ggx_d_mobile_naive_fp16(p.h64[2] as f32, p.alpha)),
+            g1: false,
+        },
+        Case {
+            name: "fp16 mobile Lagrange",
+            group: GgxD,
+            source: "seed GGX_Mobile, cross(n, h), emulated fp16",
+            host_eval: Some(|p| ggx_fp16::ggx_d_mobile_fp16([p.h64[0] as f32, p.h64[1] as f32, p.h64[2] as f32], p.alpha)),
+            g1: false,
+        },
+        k("beckmann_lambda", Beckmann, "exact, erfc + continued fraction"),
+        k("beckmann_lambda_walter", Beckmann, "Walter 2007 eq. 27 (Lambda form)"),
+        Case { name: "beckmann_g1", group: Beckmann, source: "exact, 1/(1 + Lambda)", host_eval: None, g1: true },
+        Case { name: "beckmann_g1_walter", group: Beckmann, source: "Walter 2007 eq. 27 (G1 form)", host_eval: None, g1: true },
+    ]
+}
+
+fn log_space(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    (0..n).map(|i| (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / (n - 1).max(1) as f64).exp()).collect()
+}
+
+fn visibility_grid(n: usize) -> Vec<Point> {
+    let thetas: Vec<f64> = (0..n).map(|i| 89.9 * i as f64 / (n - 1).max(1) as f64).collect();
+    let mut pts = Vec::new();
+    for &alpha in &log_space(1e-3, 1.0, 16) {
+        let a = alpha as f32;
+        for &tv in &thetas {
+            for &tl in &thetas {
+                for j in 0..8 {
+                    let phi = PI * j as f64 / 7.0;
+                    let v = r64::dir(tv.to_radians(), 0.0);
+                    let l = r64::dir(tl.to_radians(), phi);
+                    let h = r64::normalize([v[0] + l[0], v[1] + l[1], v[2] + l[2]]);
+                    let (nv, nl) = (v[2] as f32, l[2] as f32);
+                    let reference = r64::v_smith_ggx_correlated(nv as f64, nl as f64, a as f64);
+                    pts.push(Point {
+                        nv,
+                        nl,
+                        nh: h[2] as f32,
+                        vh: r64::dot(v, h) as f32,
+                        alpha: a,
+                        w: [0.0; 3],
+                        h64: h,
+                        reference,
+                        reference_g1: 0.0,
+                        theta_deg: tv,
+                        theta2_deg: tl,
+                    });
+                }
+            }
+        }
+    }
+    pts
+}
+
+fn ggx_d_grid(n: usize) -> Vec<Point> {
+    let nt = n * 64;
+    let mut pts = Vec::new();
+    for &alpha in &log_space(1.0 / 128.0, 1.0, 16) {
+        let a = alpha as f32;
+        for i in 0..nt {
+            let t = 10.0 * i as f64 / (nt - 1) as f64;
+            let theta = (a as f64 * t).atan();
+            let h = r64::dir(theta, 0.3);
+            pts.push(Point {
+                nv: 0.0,
+                nl: 0.0,
+                nh: h[2] as f32,
+                vh: 0.0,
+                alpha: a,
+                w: [h[0] as f32, h[1] as f32, h[2] as f32],
+                h64: h,
+                reference: r64::ggx_d_cos(h[2], a as f64),
+                reference_g1: 0.0,
+                theta_deg: theta.to_degrees(),
+                theta2_deg: 0.0,
+            });
+        }
+    }
+    pts
+}
+
+fn beckmann_grid(n: usize) -> Vec<Point> {
+    let nt = n * 32;
+    let mut pts = Vec::new();
+    for &alpha in &log_space(1e-3, 1.0, 32) {
+        let a = alpha as f32;
+        for i in 0..nt {
+            let theta = 89.9 * i as f64 / (nt - 1) as f64;
+            let d = r64::dir(theta.to_radians(), 0.7);
+            let w = [d[0] as f32, d[1] as f32, d[2] as f32];
+            let lambda = r64::beckmann_lambda([w[0] as f64, w[1] as f64, w[2] as f64], a as f64, a as f64);
+            pts.push(Point {
+                nv: 0.0,
+                nl: 0.0,
+                nh: 0.0,
+                vh: 0.0,
+                alpha: a,
+                w,
+                h64: d,
+                reference: lambda,
+                reference_g1: 1.0 / (1.0 + lambda),
+                theta_deg: theta,
+                theta2_deg: 0.0,
+            });
+        }
+    }
+    pts
+}
+
+/// The value of input column `col` at `p`.
+fn column(col: &str, p: &Point) -> Result<f32> {
+    Ok(match col {
+        "n_dot_v" => p.nv,
+        "n_dot_l" => p.nl,
+        "n_dot_h" => p.nh,
+        "v_dot_h" => p.vh,
+        "alpha" | "alpha_x" | "alpha_y" => p.alpha,
+        "wm_x" | "wh_x" | "w_x" => p.w[0],
+        "wm_y" | "wh_y" | "w_y" => p.w[1],
+        "wm_z" | "wh_z" | "w_z" => p.w[2],
+        _ => bail!("bench: no grid value for input column {col:?}"),
+    })
+}
+
+/// Error statistics of one case.
+#[derive(Clone, Debug, Default)]
+pub struct ErrorStats {
+    pub max_rel: f64,
+    pub mean_rel: f64,
+    pub max_abs: f64,
+    pub non_finite: usize,
+    pub worst: String,
+    pub points: usize,
+}
+
+fn error_stats(values: &[f32], pts: &[Point], g1: bool, group: Group) -> ErrorStats {
+    let mut s = ErrorStats { points: pts.len(), ..Default::default() };
+    let mut sum = 0.0;
+    for (&x, p) in values.iter().zip(pts) {
+        let r = if g1 { p.reference_g1 } else { p.reference };
+        if !x.is_finite() {
+            s.non_finite += 1;
+            continue;
+        }
+        let x = x as f64;
+        let abs = (x - r).abs();
+        let rel = abs / r.abs().max(f32::MIN_POSITIVE as f64);
+        sum += rel;
+        s.max_abs = s.max_abs.max(abs);
+        if rel > s.max_rel || s.worst.is_empty() {
+            s.max_rel = rel;
+            s.worst = match group {
+                Group::Visibility => format!("θv={:.1}° θl={:.1}° α={:.2e}", p.theta_deg, p.theta2_deg, p.alpha),
+                Group::GgxD => format!("θh={:.3}° α={:.2e}", p.theta_deg, p.alpha),
+                Group::Beckmann => format!("θ={:.2}° α={:.2e}", p.theta_deg, p.alpha),
+            };
+        }
+    }
+    s.mean_rel = sum / (pts.len() - s.non_finite).max(1) as f64;
+    s
+}
+
+/// One row of the report.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    pub name: String,
+    pub group: String,
+    pub source: String,
+    pub error: ErrorStats,
+    pub cpu_evals_per_s: Option<f64>,
+    pub gpu_evals_per_s: Option<f64>,
+    pub gpu_timing: Option<String>,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    v[v.len() / 2]
+}
+
+/// Median evaluations per second of `id` over `table` on `backend`.
+fn time_backend(backend: &Backend, id: u32, table: &[f32], in_stride: usize, out_stride: usize, repeats: usize, pb: &indicatif::ProgressBar) -> Result<(f64, String)> {
+    let rows = table.len() / in_stride;
+    let (_, warm) = backend.eval_table(id, table, in_stride, out_stride, rows)?;
+    pb.inc(1);
+    let mut secs = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        let (_, t) = backend.eval_table(id, table, in_stride, out_stride, rows)?;
+        secs.push(t.seconds);
+        pb.inc(1);
+    }
+    Ok((rows as f64 / median(secs), warm.source.to_string()))
+}
+
+/// Run the benchmark and write the report and plot.
+pub fn run(a: &MicrofacetArgs) -> Result<()> {
+    anyhow::ensure!(a.grid >= 4, "--grid must be at least 4");
+    anyhow::ensure!(a.rows >= 1024, "--rows must be at least 1024");
+    anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
+    let gpu = match a.device {
+        DeviceChoice::Cpu => None,
+        DeviceChoice::Gpu => Some(Backend::select(DeviceChoice::Gpu)?),
+        DeviceChoice::Auto => match Backend::select(DeviceChoice::Auto)? {
+            b @ Backend::Gpu(_) => Some(b),
+            Backend::Cpu => None,
+        },
+    };
+    let cpu = Backend::Cpu;
+    eprintln!("{}", cpu.describe());
+    match &gpu {
+        Some(g) => eprintln!("{}", g.describe()),
+        None => eprintln!("no GPU backend: GPU columns left empty"),
+    }
+    let grids = [
+        (Group::Visibility, visibility_grid(a.grid)),
+        (Group::GgxD, ggx_d_grid(a.grid)),
+        (Group::Beckmann, beckmann_grid(a.grid)),
+    ];
+    let cases = cases();
+    let kernels = cases.iter().filter(|c| c.host_eval.is_none()).count();
+    let timing_steps = if a.no_timing { 0 } else { kernels * (a.repeats + 1) * (1 + gpu.is_some() as usize) };
+    let pb = indicatif::ProgressBar::new((cases.len() + timing_steps) as u64);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut out = Vec::new();
+    for case in &cases {
+        pb.set_message(case.name);
+        let pts = &grids.iter().find(|(g, _)| *g == case.group).unwrap().1;
+        let (values, timed) = match case.host_eval {
+            Some(f) => (pts.iter().map(f).collect::<Vec<f32>>(), None),
+            None => {
+                let f = find_function(case.name)?;
+                let mut rows = Vec::with_capacity(pts.len() * f.inputs.len());
+                for p in pts {
+                    for col in f.inputs {
+                        rows.push(column(col, p)?);
+                    }
+                }
+                let (vals, _) = cpu.eval_table(f.id, &rows, f.inputs.len(), f.outputs.len(), pts.len())?;
+                (vals, Some((f, rows)))
+            }
+        };
+        pb.inc(1);
+        let error = error_stats(&values, pts, case.g1, case.group);
+        let mut m = Measured {
+            name: case.name.into(),
+            group: format!("{:?}", case.group),
+            source: case.source.into(),
+            error,
+            cpu_evals_per_s: None,
+            gpu_evals_per_s: None,
+            gpu_timing: None,
+        };
+        if let (Some((f, rows)), false) = (timed, a.no_timing) {
+            let stride = f.inputs.len();
+            let n = rows.len() / stride;
+            let mut table = Vec::with_capacity(a.rows * stride);
+            for i in 0..a.rows {
+                let r = i % n;
+                table.extend_from_slice(&rows[r * stride..(r + 1) * stride]);
+            }
+            let (c, _) = time_backend(&cpu, f.id, &table, stride, f.outputs.len(), a.repeats, &pb)?;
+            m.cpu_evals_per_s = Some(c);
+            if let Some(g) = &gpu {
+                let (r, src) = time_backend(g, f.id, &table, stride, f.outputs.len(), a.repeats, &pb).with_context(|| format!("timing {} on the GPU", f.name))?;
+                m.gpu_evals_per_s = Some(r);
+                m.gpu_timing = Some(src);
+            }
+        }
+        out.push(m);
+    }
+    pb.finish_and_clear();
+    let md = markdown(a, &out, &grids.iter().map(|(g, p)| (*g, p.len())).collect::<Vec<_>>(), &cpu, gpu.as_ref());
+    crate::io::create_parent_dir(&a.output)?;
+    std::fs::write(&a.output, md).with_context(|| format!("writing {}", a.output.display()))?;
+    eprintln!("wrote {}", a.output.display());
+    if !a.no_timing {
+        plot(&a.plot, &out, gpu.as_ref().map(|g| g.describe()))?;
+        eprintln!("wrote {}", a.plot.display());
+    }
+    Ok(())
+}
+
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .unwrap_or_else(|| "unknown CPU".into())
+}
+
+fn fmt_rate(r: Option<f64>) -> String {
+    match r {
+        Some(r) => format!("{:.1}", r / 1e6),
+        None => "n/a".into(),
+    }
+}
+
+fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu: &Backend, gpu: Option<&Backend>) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Microfacet approximations: cost and accuracy\n");
+    let _ = writeln!(
+        s,
+        "Generated by `cargo run --release -p host -- bench microfacet --device {} --rows {} --repeats {} --grid {}` \
+         (method, grids and reference: `host/src/bench_microfacet.rs`; functions: `docs/microfacet.md`).\n",
+        format!("{:?}", a.device).to_lowercase(),
+        a.rows,
+        a.repeats,
+        a.grid
+    );
+    let _ = writeln!(s, "- CPU backend: {} on {}", cpu.describe(), cpu_model());
+    match gpu {
+        Some(g) => {
+            let _ = writeln!(s, "- GPU backend: {}", g.describe());
+        }
+        None => {
+            let _ = writeln!(s, "- GPU backend: none (run with a Vulkan adapter for the GPU column)");
+        }
+    }
+    let _ = writeln!(
+        s,
+        "- Cost: median of {} timed runs of {} rows after one warm-up; Mevals/s = 10^6 evaluations per second. \
+         CPU: wall clock of the rayon-parallel evaluation. GPU: {}.",
+        a.repeats,
+        a.rows,
+        match gpu {
+            Some(Backend::Gpu(g)) if g.timestamps => "timestamp queries around the compute pass (kernel time, no transfers)",
+            Some(_) => "wall clock including transfers (the adapter has no timestamp queries)",
+            None => "not measured",
+        }
+    );
+    let _ = writeln!(s, "- Error: relative, |x - ref| / max(|ref|, 2^-126), max and mean over the grid; `worst at` is the grid point of the max.\n");
+    for &(g, n) in grids {
+        let _ = writeln!(s, "## {}\n", g.title());
+        let _ = writeln!(
+            s,
+            "Grid: {n} points ({}).\n",
+            match g {
+                Group::Visibility => format!("θv, θl: {} values each in [0, 89.9]°; azimuth between them: 8 values in [0, π]; α: 16 log-spaced in [1e-3, 1]", a.grid),
+                Group::GgxD => format!("α: 16 log-spaced in [2^-7, 1]; tan θh = α t, t: {} values in [0, 10]; φh = 0.3", a.grid * 64),
+                Group::Beckmann => format!("θ: {} values in [0, 89.9]°; α: 32 log-spaced in [1e-3, 1]; φ = 0.7", a.grid * 32),
+            }
+        );
+        let _ = writeln!(s, "| function | form | max rel err | mean rel err | max abs err | worst at | non-finite | CPU Mevals/s | GPU Mevals/s |");
+        let _ = writeln!(s, "| --- | --- | ---: | ---: | ---: | --- | ---: | ---: | ---: |");
+        for m in rows.iter().filter(|m| m.group == format!("{g:?}")) {
+            let _ = writeln!(
+                s,
+                "| `{}` | {} | {:.3e} | {:.3e} | {:.3e} | {} | {} | {} | {} |",
+                m.name,
+                m.source,
+                m.error.max_rel,
+                m.error.mean_rel,
+                m.error.max_abs,
+                m.error.worst,
+                m.error.non_finite,
+                fmt_rate(m.cpu_evals_per_s),
+                fmt_rate(m.gpu_evals_per_s)
+            );
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
+/// Scatter plot: max relative error (log) against evaluations per second (log), one labelled point
+/// per function and backend.
+fn plot(path: &Path, rows: &[Measured], gpu_name: Option<String>) -> Result<()> {
+    use plotters::prelude::*;
+    static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    let (w, h) = (1800u32, 1200u32);
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    let mut pts: Vec<(f64, f64, String, bool)> = Vec::new();
+    for m in rows {
+        let e = m.error.max_rel.max(1e-9);
+        if let Some(c) = m.cpu_evals_per_s {
+            pts.push((c, e, m.name.clone(), false));
+        }
+        if let Some(g) = m.gpu_evals_per_s {
+            pts.push((g, e, m.name.clone(), true));
+        }
+    }
+    anyhow::ensure!(!pts.is_empty(), "nothing timed: no plot");
+    let (xmin, xmax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let (ymin, ymax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let caption = match &gpu_name {
+            Some(_) => "Microfacet approximations: max relative error vs evaluations/s (● CPU backend, ▲ GPU backend)",
+            None => "Microfacet approximations: max relative error vs evaluations/s (CPU backend)",
+        };
+        let mut chart = ChartBuilder::on(&root)
+            .caption(caption, ("sans-serif", 30))
+            .margin(30)
+            .margin_bottom(75)
+            .x_label_area_size(90)
+            .y_label_area_size(100)
+            .build_cartesian_2d((xmin / 2.0..xmax * 3.0).log_scale(), (ymin / 5.0..ymax * 5.0).log_scale())
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc("evaluations per second")
+            .y_desc("max relative error over the grid")
+            .label_style(("sans-serif", 20))
+            .axis_desc_style(("sans-serif", 24))
+            .x_label_formatter(&|x| format!("{x:.0e}"))
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .draw()
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        let cpu_color = RGBColor(31, 119, 180);
+        let gpu_color = RGBColor(214, 39, 40);
+        chart
+            .draw_series(pts.iter().filter(|p| !p.3).map(|p| Circle::new((p.0, p.1), 7, cpu_color.filled())))
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        chart
+            .draw_series(pts.iter().filter(|p| p.3).map(|p| TriangleMarker::new((p.0, p.1), 9, gpu_color.filled())))
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        // One label per group of points with the same error (bitwise) on the same backend (the
+        // forms that share their arithmetic), nudged down when it would overlap an earlier label.
+        let mut groups: Vec<(f64, f64, Vec<String>, bool)> = Vec::new();
+        for p in &pts {
+            match groups.iter_mut().find(|g| g.1.to_bits() == p.1.to_bits() && g.3 == p.3) {
+                Some(g) => {
+                    g.0 = g.0.max(p.0);
+                    g.2.push(p.2.clone());
+                }
+                None => groups.push((p.0, p.1, vec![p.2.clone()], p.3)),
+            }
+        }
+        let mut placed: Vec<(i32, i32)> = Vec::new();
+        for g in &groups {
+            let (px, py) = chart.backend_coord(&(g.0, g.1));
+            let mut y = py - 8;
+            while placed.iter().any(|&(x0, y0)| (x0 - px).abs() < 300 && (y0 - y).abs() < 16) {
+                y += 16;
+            }
+            placed.push((px, y));
+            let color = if g.3 { gpu_color } else { cpu_color };
+            root.draw(&Text::new(g.2.join(" = "), (px + 10, y), ("sans-serif", 16).into_font().color(&color)))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        let mut footer = Vec::new();
+        if let Some(g) = gpu_name {
+            footer.push(g.chars().take(170).collect::<String>());
+        }
+        let untimed: Vec<String> =
+            rows.iter().filter(|m| m.cpu_evals_per_s.is_none()).map(|m| format!("{} {:.2e}", m.name, m.error.max_rel)).collect();
+        if !untimed.is_empty() {
+            footer.push(format!("Not plotted (no kernel; error only, max rel): {}", untimed.join(", ")));
+        }
+        for (i, line) in footer.iter().enumerate() {
+            root.draw(&Text::new(line.clone(), (40, h as i32 - 24 - 20 * (footer.len() - 1 - i) as i32), ("sans-serif", 16).into_font()))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    crate::io::create_parent_dir(path)?;
+    image::save_buffer(path, &buf, w, h, image::ColorType::Rgb8).with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}

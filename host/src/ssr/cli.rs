@@ -1,0 +1,355 @@
+//! `host ssr`: run either SSR pipeline on a built-in scene or an EXR G-buffer, write the
+//! reflection (EXR + PNG), debug views and per-pass times, and the error against the ray-traced
+//! reference where the scene is procedural. `host ssr bench` writes the comparison report.
+
+use super::gbuffer::GBuffer;
+use super::metrics::{composite, error, ErrorStats};
+use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode};
+use super::reference::{render_reference, Reference};
+use super::scene::{scene, Scene};
+use super::sssr::{run_sssr, SssrSettings};
+use crate::io::{write_exr, write_heatmap_png, write_rgb_preview_png};
+use crate::{Backend, DeviceChoice};
+use anyhow::{bail, Context, Result};
+use shader_core::ssr::trace::{info, RAY_STRIDE};
+use std::path::{Path, PathBuf};
+
+/// Which pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PipelineChoice {
+    /// Unity HDRP: one mirror ray per pixel, SSR_APPROX or a GetSSRSampleWeight neighbourhood.
+    Hdrp,
+    /// Frostbite stochastic SSR: tiles, ray list, VNDF rays, BRDF-weighted reuse, temporal.
+    Sssr,
+}
+
+/// Options shared by `host ssr` and `host ssr bench`.
+#[derive(Clone, Debug, clap::Args)]
+pub struct RunArgs {
+    /// Built-in scene: floor, hallway, thin, animated.
+    #[arg(long, default_value = "floor", conflicts_with = "input")]
+    pub scene: String,
+    /// G-buffer EXR (with its camera JSON beside it) instead of a built-in scene.
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "hdrp")]
+    pub pipeline: PipelineChoice,
+    /// Tracer: hiz, linear<N> (e.g. linear32) or brute (every pixel along the ray).
+    #[arg(long, default_value = "hiz")]
+    pub trace: String,
+    /// HDRP resolve: approx (SSR_APPROX), 3x3 or cross5.
+    #[arg(long, default_value = "approx")]
+    pub resolve: String,
+    #[arg(long, default_value_t = 256)]
+    pub width: usize,
+    #[arg(long, default_value_t = 256)]
+    pub height: usize,
+    /// Frame of an animated scene's camera path.
+    #[arg(long, default_value_t = 0)]
+    pub frame: u32,
+    /// Hi-Z iteration limit (HDRP presets: 16, 32, 64).
+    #[arg(long, default_value_t = 64)]
+    pub max_steps: u32,
+    /// Object thickness relative to depth (HDRP default 0.01).
+    #[arg(long, default_value_t = 0.01)]
+    pub thickness: f32,
+    /// Screen-edge fade length (HDRP default 0.1).
+    #[arg(long, default_value_t = 0.1)]
+    pub screen_fade: f32,
+    /// Trace pixels with perceptual roughness <= 1 - min_smoothness (HDRP default 0.9).
+    #[arg(long, default_value_t = 0.4)]
+    pub min_smoothness: f32,
+    /// Roughness fade starts at 1 - smoothness_fade_start (HDRP default 0.9).
+    #[arg(long, default_value_t = 0.5)]
+    pub smoothness_fade_start: f32,
+    /// SSSR: rays per 2x2 quad (1, 2 or 4).
+    #[arg(long, default_value_t = 4)]
+    pub rays_per_quad: u32,
+    /// SSSR: rays per tracing pixel (1 or 4).
+    #[arg(long, default_value_t = 1)]
+    pub spp: u32,
+    /// SSSR: resolve each pixel from its own rays only (no neighbour reuse).
+    #[arg(long)]
+    pub no_reuse: bool,
+    /// SSSR: frames of temporal accumulation (1 = none).
+    #[arg(long, default_value_t = 1)]
+    pub temporal_frames: u32,
+    /// SSSR: importance-sampling bias (the VNDF's radial u is scaled by 1 - bias).
+    #[arg(long, default_value_t = 0.1)]
+    pub bias: f32,
+    /// SSSR: perceptual roughness above which rays use the linear march instead of Hi-Z.
+    #[arg(long, default_value_t = 0.2)]
+    pub hiz_roughness_cut: f32,
+    /// SSSR: disable filtered importance sampling (colour pyramid mip from the ray cone).
+    #[arg(long)]
+    pub no_fis: bool,
+    /// Reference rays per glossy pixel (procedural scenes).
+    #[arg(long, default_value_t = 64)]
+    pub reference_samples: u32,
+    #[arg(long, value_enum, default_value = "auto")]
+    pub device: DeviceChoice,
+}
+
+impl RunArgs {
+    pub fn settings(&self) -> SsrSettings {
+        SsrSettings {
+            thickness: self.thickness,
+            screen_fade: self.screen_fade,
+            min_smoothness: self.min_smoothness,
+            smoothness_fade_start: self.smoothness_fade_start,
+            hiz_max_iterations: self.max_steps,
+            frame: self.frame,
+            ..SsrSettings::default()
+        }
+    }
+
+    pub fn sssr(&self) -> SssrSettings {
+        SssrSettings {
+            rays_per_quad: self.rays_per_quad,
+            samples_per_pixel: self.spp,
+            reuse: !self.no_reuse,
+            temporal_frames: self.temporal_frames,
+            sample_bias: self.bias,
+            hiz_roughness_cut: self.hiz_roughness_cut,
+            fis: !self.no_fis,
+            ..SssrSettings::default()
+        }
+    }
+}
+
+/// Parse a tracer name.
+pub fn parse_trace(s: &str) -> Result<TraceMode> {
+    Ok(match s {
+        "hiz" => TraceMode::HiZ,
+        "brute" => TraceMode::BruteForce,
+        _ => match s.strip_prefix("linear").and_then(|n| n.parse::<u32>().ok()) {
+            Some(n) if n > 0 && n <= 4096 => TraceMode::Linear(n),
+            _ => bail!("unknown tracer {s:?}: use hiz, brute or linear<N> (e.g. linear32)"),
+        },
+    })
+}
+
+/// Parse an HDRP resolve name.
+pub fn parse_resolve(s: &str) -> Result<HdrpResolve> {
+    Ok(match s {
+        "approx" => HdrpResolve::Approx,
+        "3x3" => HdrpResolve::Block3x3,
+        "cross5" => HdrpResolve::Cross5,
+        _ => bail!("unknown resolve {s:?}: use approx, 3x3 or cross5"),
+    })
+}
+
+/// The input of a run: a G-buffer and, for built-in scenes, the scene.
+pub struct Input {
+    pub gbuffer: GBuffer,
+    pub scene: Option<Scene>,
+}
+
+pub fn load_input(a: &RunArgs) -> Result<Input> {
+    if let Some(p) = &a.input {
+        return Ok(Input { gbuffer: GBuffer::load(p)?, scene: None });
+    }
+    if a.width == 0 || a.height == 0 || a.width > 4096 || a.height > 4096 {
+        bail!("--width/--height must be in 1..=4096");
+    }
+    let s = scene(&a.scene)?;
+    let g = s.render_gbuffer(a.width, a.height, a.frame);
+    g.validate()?;
+    Ok(Input { gbuffer: g, scene: Some(s) })
+}
+
+/// Run the chosen pipeline.
+pub fn run_pipeline(backend: &Backend, input: &Input, a: &RunArgs) -> Result<SsrResult> {
+    let s = a.settings();
+    match a.pipeline {
+        PipelineChoice::Hdrp => run_hdrp(backend, &input.gbuffer, &s, parse_trace(&a.trace)?, parse_resolve(&a.resolve)?),
+        PipelineChoice::Sssr => {
+            let frames = a.sssr().temporal_frames.max(1);
+            run_sssr(backend, input.scene.as_ref(), &input.gbuffer, &s, &a.sssr(), a.frame, frames)
+        }
+    }
+}
+
+/// Errors of a result against a reference.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Errors {
+    /// Against the on-screen reference, on pixels whose reference rays all stay on screen.
+    pub onscreen: ErrorStats,
+    /// Against the all-geometry reference over all glossy pixels.
+    pub all: ErrorStats,
+    /// Against the on-screen reference over all glossy pixels (the algorithm's own error).
+    pub algorithm: ErrorStats,
+}
+
+pub fn errors(result: &SsrResult, reference: &Reference, sky: [f32; 3]) -> Errors {
+    let c = composite(&result.reflection, sky);
+    let on_mask: Vec<bool> =
+        reference.glossy.iter().zip(&reference.onscreen_fraction).map(|(&g, &f)| g && f >= 0.999).collect();
+    Errors {
+        onscreen: error(&c, &reference.onscreen, &on_mask),
+        all: error(&c, &reference.all, &reference.glossy),
+        algorithm: error(&c, &reference.onscreen, &reference.glossy),
+    }
+}
+
+/// Hit mask and step counts of the ray records (first sample per pixel).
+pub fn hit_and_steps(result: &SsrResult) -> (Vec<f32>, Vec<f32>) {
+    let n = result.width * result.height;
+    let per = result.rays.len() / RAY_STRIDE / n.max(1);
+    let mut hit = vec![0.0; n];
+    let mut steps = vec![0.0; n];
+    for i in 0..n {
+        let mut h = 0.0;
+        let mut s = 0.0;
+        let mut valid = 0.0;
+        for k in 0..per.max(1) {
+            let b = (i * per.max(1) + k) * RAY_STRIDE;
+            let bits = result.rays[b + 3].to_bits();
+            if bits & info::VALID != 0 {
+                valid += 1.0;
+                if bits & info::HIT != 0 {
+                    h += 1.0;
+                }
+                s += (bits >> info::STEPS_SHIFT) as f32;
+            }
+        }
+        hit[i] = if valid > 0.0 { h / valid } else { -1.0 };
+        steps[i] = if valid > 0.0 { s / valid } else { 0.0 };
+    }
+    (hit, steps)
+}
+
+/// Write the reflection EXR, previews and debug views; returns the files written.
+pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: Option<&Reference>, sky: [f32; 3]) -> Result<Vec<PathBuf>> {
+    let (w, h) = (result.width, result.height);
+    let n = w * h;
+    let comp = composite(&result.reflection, sky);
+    let ch = |v: &[f32], k: usize, s: usize| -> Vec<f32> { (0..n).map(|i| v[s * i + k]).collect() };
+    let (hit, steps) = hit_and_steps(result);
+    let mut chans: Vec<(String, Vec<f32>)> = vec![
+        ("R".into(), ch(&result.reflection, 0, 4)),
+        ("G".into(), ch(&result.reflection, 1, 4)),
+        ("B".into(), ch(&result.reflection, 2, 4)),
+        ("A".into(), ch(&result.reflection, 3, 4)),
+        ("composite.R".into(), ch(&comp, 0, 3)),
+        ("composite.G".into(), ch(&comp, 1, 3)),
+        ("composite.B".into(), ch(&comp, 2, 3)),
+        ("hit".into(), hit.clone()),
+        ("steps".into(), steps.clone()),
+    ];
+    if let Some(r) = reference {
+        for (name, img) in [("reference_all", &r.all), ("reference_onscreen", &r.onscreen)] {
+            for (k, c) in ["R", "G", "B"].iter().enumerate() {
+                chans.push((format!("{name}.{c}"), ch(img, k, 3)));
+            }
+        }
+        chans.push(("reference_onscreen_fraction".into(), r.onscreen_fraction.clone()));
+    }
+    let refs: Vec<(&str, &[f32])> = chans.iter().map(|(a, b)| (a.as_str(), b.as_slice())).collect();
+    write_exr(out, w, h, &refs)?;
+    let mut files = vec![out.to_path_buf()];
+    let stem = out.with_extension("");
+    let p = |s: &str| PathBuf::from(format!("{}.{s}.png", stem.display()));
+    write_rgb_preview_png(&p("composite"), w, h, &comp, 0.0)?;
+    files.push(p("composite"));
+    write_rgb_preview_png(&p("scene"), w, h, &input.gbuffer.color, 0.0)?;
+    files.push(p("scene"));
+    write_heatmap_png(&p("hit"), w, h, &hit, -1.0, 1.0)?;
+    files.push(p("hit"));
+    let max_steps = steps.iter().cloned().fold(1.0f32, f32::max);
+    write_heatmap_png(&p("steps"), w, h, &steps, 0.0, max_steps)?;
+    files.push(p("steps"));
+    if let Some(t) = &result.tiles {
+        let tw = w.div_ceil(8);
+        let img: Vec<f32> = (0..n).map(|i| t.classes[(i / w / 8) * tw + (i % w) / 8] as f32).collect();
+        write_heatmap_png(&p("tiles"), w, h, &img, 0.0, 3.0)?;
+        files.push(p("tiles"));
+    }
+    if let Some(r) = reference {
+        write_rgb_preview_png(&p("reference"), w, h, &r.all, 0.0)?;
+        files.push(p("reference"));
+        write_rgb_preview_png(&p("reference_onscreen"), w, h, &r.onscreen, 0.0)?;
+        files.push(p("reference_onscreen"));
+        let err: Vec<f32> = (0..n)
+            .map(|i| {
+                if !r.glossy[i] {
+                    return 0.0;
+                }
+                let d: f32 = (0..3).map(|k| (comp[3 * i + k] - r.onscreen[3 * i + k]).abs()).sum();
+                d / 3.0
+            })
+            .collect();
+        write_heatmap_png(&p("error"), w, h, &err, 0.0, 0.5)?;
+        files.push(p("error"));
+    }
+    Ok(files)
+}
+
+/// `host ssr`.
+pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()> {
+    let input = load_input(a)?;
+    if let Some(p) = save_gbuffer {
+        input.gbuffer.save(p)?;
+        eprintln!("wrote G-buffer {} (+ {})", p.display(), super::gbuffer::camera_path(p).display());
+    }
+    let backend = Backend::select(a.device)?;
+    eprintln!("{}", backend.describe());
+    let result = run_pipeline(&backend, &input, a)?;
+    for t in &result.times {
+        eprintln!("  {:<16} {:>9.3} ms ({})", t.name, t.seconds * 1e3, t.source);
+    }
+    if let Some(t) = &result.tiles {
+        eprintln!(
+            "  tiles: {} of {} skipped, {} rays for {} eligible pixels",
+            t.skipped, t.tiles, t.rays, t.eligible_pixels
+        );
+    }
+    let sky = input.scene.as_ref().map(|s| s.sky).unwrap_or([0.0; 3]);
+    let reference = match &input.scene {
+        Some(s) => {
+            let r = render_reference(s, &input.gbuffer, 1.0 - a.min_smoothness, a.reference_samples);
+            let e = errors(&result, &r, sky);
+            eprintln!(
+                "  error vs reference: on-screen pixels ({}) RMSE {:.4} rel {:.3}; all glossy ({}) RMSE {:.4} rel {:.3} (vs on-screen reference: RMSE {:.4} rel {:.3})",
+                e.onscreen.pixels, e.onscreen.rmse, e.onscreen.rel, e.all.pixels, e.all.rmse, e.all.rel, e.algorithm.rmse, e.algorithm.rel
+            );
+            Some(r)
+        }
+        None => None,
+    };
+    let files = write_outputs(output, &input, &result, reference.as_ref(), sky).context("writing outputs")?;
+    for f in files {
+        eprintln!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// `host ssr [bench]`.
+#[derive(Clone, Debug, clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct SsrCommand {
+    #[command(subcommand)]
+    pub sub: Option<SsrSub>,
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Output EXR; PNGs are written beside it.
+    #[arg(long, short, default_value = "out/ssr.exr")]
+    pub output: PathBuf,
+    /// Also write the input G-buffer as EXR + camera JSON (the documented input format).
+    #[arg(long)]
+    pub save_gbuffer: Option<PathBuf>,
+}
+
+#[derive(Clone, Debug, clap::Subcommand)]
+pub enum SsrSub {
+    /// Every configuration on every built-in scene: errors, times, skipped work; writes a
+    /// Markdown report and a PNG of error against time.
+    Bench(super::bench::BenchArgs),
+}
+
+pub fn main(cmd: SsrCommand) -> Result<()> {
+    match cmd.sub {
+        Some(SsrSub::Bench(b)) => super::bench::run(&b),
+        None => run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref()),
+    }
+}

@@ -1,0 +1,212 @@
+//! The SSR inputs: a G-buffer (linear depth, world normal, perceptual roughness, metalness, the
+//! scene colour reflections sample, motion vectors) and the cameras of this and the previous frame.
+//!
+//! On disk: one EXR with the channels [`CHANNELS`] plus a JSON file beside it (same stem,
+//! `.json`) holding `{"width", "height", "camera", "previous_camera"}` (see [`Camera`]).
+//! Depth is linear view depth (> 0; `+inf` = sky); normals are world-space unit vectors; the
+//! colour is the previous frame's HDR colour (what HDRP's colour pyramid holds when SSR runs);
+//! motion vectors are UV(current) - UV(previous).
+
+use super::camera::Camera;
+use crate::io::{read_exr, write_exr};
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// EXR channel names, in the order of the fields they fill.
+pub const CHANNELS: [&str; 11] = [
+    "depth", "normal.X", "normal.Y", "normal.Z", "roughness", "metalness", "color.R", "color.G", "color.B", "motion.X",
+    "motion.Y",
+];
+
+/// A G-buffer and its cameras. Per-pixel vectors are interleaved; rows top to bottom.
+#[derive(Clone, Debug)]
+pub struct GBuffer {
+    pub width: usize,
+    pub height: usize,
+    pub depth: Vec<f32>,
+    /// World-space normal, 3 per pixel.
+    pub normal: Vec<f32>,
+    pub roughness: Vec<f32>,
+    pub metalness: Vec<f32>,
+    /// Scene colour (previous frame), RGB per pixel.
+    pub color: Vec<f32>,
+    /// UV(current) - UV(previous), 2 per pixel.
+    pub motion: Vec<f32>,
+    pub camera: Camera,
+    pub previous_camera: Camera,
+}
+
+/// The JSON beside the EXR.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CameraFile {
+    pub width: usize,
+    pub height: usize,
+    pub camera: Camera,
+    pub previous_camera: Camera,
+}
+
+/// The JSON path of an EXR path.
+pub fn camera_path(exr: &Path) -> PathBuf {
+    exr.with_extension("json")
+}
+
+impl GBuffer {
+    /// Check sizes, values and cameras; the error names the first problem (channel, pixel).
+    pub fn validate(&self) -> Result<()> {
+        let n = self.width * self.height;
+        if n == 0 {
+            bail!("G-buffer is empty ({}x{})", self.width, self.height);
+        }
+        if self.width > 8192 || self.height > 8192 {
+            bail!("G-buffer {}x{} is larger than 8192x8192", self.width, self.height);
+        }
+        let sizes = [
+            ("depth", self.depth.len(), n),
+            ("normal", self.normal.len(), 3 * n),
+            ("roughness", self.roughness.len(), n),
+            ("metalness", self.metalness.len(), n),
+            ("color", self.color.len(), 3 * n),
+            ("motion", self.motion.len(), 2 * n),
+        ];
+        for (name, have, want) in sizes {
+            if have != want {
+                bail!(
+                    "G-buffer size mismatch: {name} has {have} values, expected {want} for {}x{}",
+                    self.width,
+                    self.height
+                );
+            }
+        }
+        let at = |i: usize| format!("pixel ({}, {})", i % self.width, i / self.width);
+        for (i, &z) in self.depth.iter().enumerate() {
+            if z.is_nan() {
+                bail!("G-buffer depth is NaN at {}", at(i));
+            }
+            if !(z > 0.0) {
+                bail!("G-buffer depth must be > 0 (linear view depth; +inf for sky), got {z} at {}", at(i));
+            }
+            if z.is_finite() {
+                let nn = &self.normal[3 * i..3 * i + 3];
+                if nn.iter().any(|v| !v.is_finite()) {
+                    bail!("G-buffer normal is not finite at {}: {nn:?}", at(i));
+                }
+                let l2: f32 = nn.iter().map(|v| v * v).sum();
+                if !(l2 > 0.25 && l2 < 4.0) {
+                    bail!("G-buffer normal at {} is not a unit vector: {nn:?}", at(i));
+                }
+            }
+        }
+        for (name, data) in [("roughness", &self.roughness), ("metalness", &self.metalness)] {
+            if let Some((i, v)) = data.iter().enumerate().find(|(_, v)| !(**v >= 0.0 && **v <= 1.0)) {
+                bail!("G-buffer {name} must be in [0, 1], got {v} at {}", at(i));
+            }
+        }
+        if let Some((i, v)) = self.color.iter().enumerate().find(|(_, v)| !v.is_finite() || **v < 0.0) {
+            bail!("G-buffer color must be finite and >= 0, got {v} at {}", at(i / 3));
+        }
+        if let Some((i, v)) = self.motion.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            bail!("G-buffer motion vector is not finite ({v}) at {}", at(i / 2));
+        }
+        self.camera.validate("camera")?;
+        self.previous_camera.validate("previous_camera")?;
+        Ok(())
+    }
+
+    /// Pack depth, normal, roughness, metalness and motion into the kernels' G-buffer layout
+    /// (`shader_core::ssr::trace::GBUF_STRIDE` floats per pixel).
+    pub fn packed(&self) -> Vec<f32> {
+        let n = self.width * self.height;
+        let mut g = Vec::with_capacity(n * 8);
+        for i in 0..n {
+            g.extend_from_slice(&[
+                self.depth[i],
+                self.normal[3 * i],
+                self.normal[3 * i + 1],
+                self.normal[3 * i + 2],
+                self.roughness[i],
+                self.metalness[i],
+                self.motion[2 * i],
+                self.motion[2 * i + 1],
+            ]);
+        }
+        g
+    }
+
+    /// Write the EXR (channels [`CHANNELS`]) and the camera JSON beside it.
+    pub fn save(&self, exr: &Path) -> Result<()> {
+        let n = self.width * self.height;
+        let comp = |v: &[f32], k: usize, s: usize| -> Vec<f32> { (0..n).map(|i| v[s * i + k]).collect() };
+        let chans: Vec<(&str, Vec<f32>)> = vec![
+            ("depth", self.depth.clone()),
+            ("normal.X", comp(&self.normal, 0, 3)),
+            ("normal.Y", comp(&self.normal, 1, 3)),
+            ("normal.Z", comp(&self.normal, 2, 3)),
+            ("roughness", self.roughness.clone()),
+            ("metalness", self.metalness.clone()),
+            ("color.R", comp(&self.color, 0, 3)),
+            ("color.G", comp(&self.color, 1, 3)),
+            ("color.B", comp(&self.color, 2, 3)),
+            ("motion.X", comp(&self.motion, 0, 2)),
+            ("motion.Y", comp(&self.motion, 1, 2)),
+        ];
+        let refs: Vec<(&str, &[f32])> = chans.iter().map(|(n, d)| (*n, d.as_slice())).collect();
+        write_exr(exr, self.width, self.height, &refs)?;
+        let cams = CameraFile {
+            width: self.width,
+            height: self.height,
+            camera: self.camera,
+            previous_camera: self.previous_camera,
+        };
+        let json = serde_json::to_string_pretty(&cams)?;
+        std::fs::write(camera_path(exr), json).with_context(|| format!("writing {}", camera_path(exr).display()))
+    }
+
+    /// Read an EXR written by [`GBuffer::save`] (or by another tool with the same channels) and
+    /// the camera JSON beside it, and validate the result.
+    pub fn load(exr: &Path) -> Result<GBuffer> {
+        let img = read_exr(exr)?;
+        let json_path = camera_path(exr);
+        let text = std::fs::read_to_string(&json_path)
+            .with_context(|| format!("reading the camera file {} (expected beside the EXR)", json_path.display()))?;
+        let cams: CameraFile =
+            serde_json::from_str(&text).with_context(|| format!("parsing the camera file {}", json_path.display()))?;
+        if cams.width != img.width || cams.height != img.height {
+            bail!(
+                "size mismatch: {} is {}x{} but {} says {}x{}",
+                exr.display(),
+                img.width,
+                img.height,
+                json_path.display(),
+                cams.width,
+                cams.height
+            );
+        }
+        let n = img.width * img.height;
+        let get = |name: &str| -> Result<Vec<f32>> {
+            let c = img.channel(name).with_context(|| format!("in {}", exr.display()))?;
+            if c.len() != n {
+                bail!("channel {name} has {} values, expected {n}", c.len());
+            }
+            Ok(c.to_vec())
+        };
+        let inter = |names: &[&str]| -> Result<Vec<f32>> {
+            let cs: Vec<Vec<f32>> = names.iter().map(|n| get(n)).collect::<Result<_>>()?;
+            Ok((0..n).flat_map(|i| cs.iter().map(move |c| c[i])).collect())
+        };
+        let g = GBuffer {
+            width: img.width,
+            height: img.height,
+            depth: get("depth")?,
+            normal: inter(&["normal.X", "normal.Y", "normal.Z"])?,
+            roughness: get("roughness")?,
+            metalness: get("metalness")?,
+            color: inter(&["color.R", "color.G", "color.B"])?,
+            motion: inter(&["motion.X", "motion.Y"])?,
+            camera: cams.camera,
+            previous_camera: cams.previous_camera,
+        };
+        g.validate().with_context(|| format!("invalid G-buffer {}", exr.display()))?;
+        Ok(g)
+    }
+}

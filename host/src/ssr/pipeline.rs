@@ -1,0 +1,374 @@
+//! Running the SSR passes on a backend: the CPU backend calls the kernels' per-invocation
+//! functions natively (rayon over pixels), the GPU backend dispatches the SPIR-V entry points of
+//! `shader_kernels::ssr`. Every pass is timed (CPU: wall clock; GPU: timestamp queries).
+
+use super::gbuffer::GBuffer;
+use crate::gpu::{groups_2d, OutputSpec};
+use crate::timing::{Timing, TimingSource};
+use crate::Backend;
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+use shader_core::ssr::params::{self, idx, mip_size, SsrParams};
+use shader_core::ssr::resolve::{self, COLOR_STRIDE, OUT_STRIDE};
+use shader_core::ssr::trace::{self, RAY_STRIDE};
+use std::time::Instant;
+
+/// How rays are traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TraceMode {
+    /// HDRP's hierarchical traversal of the min-depth pyramid.
+    HiZ,
+    /// A linear march with this many steps.
+    Linear(u32),
+    /// Every pixel along the ray (the oracle).
+    BruteForce,
+}
+
+impl TraceMode {
+    pub fn label(&self) -> String {
+        match self {
+            TraceMode::HiZ => "hiz".into(),
+            TraceMode::Linear(n) => format!("linear{n}"),
+            TraceMode::BruteForce => "brute".into(),
+        }
+    }
+}
+
+/// HDRP's resolve after tracing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HdrpResolve {
+    /// `SSR_APPROX`: colour pyramid at mip lerp(0, maxMip, perceptualRoughness).
+    Approx,
+    /// 3x3 neighbourhood weighted by GetSSRSampleWeight.
+    Block3x3,
+    /// 5-tap cross weighted by GetSSRSampleWeight.
+    Cross5,
+}
+
+impl HdrpResolve {
+    pub fn label(&self) -> &'static str {
+        match self {
+            HdrpResolve::Approx => "approx",
+            HdrpResolve::Block3x3 => "3x3",
+            HdrpResolve::Cross5 => "cross5",
+        }
+    }
+    fn arg(&self) -> u32 {
+        match self {
+            HdrpResolve::Approx => 0,
+            HdrpResolve::Block3x3 => 1 + resolve::NEIGHBORHOOD_3X3,
+            HdrpResolve::Cross5 => 1 + resolve::NEIGHBORHOOD_CROSS5,
+        }
+    }
+}
+
+/// Settings shared by both pipelines (HDRP's volume parameters and defaults where it has them).
+#[derive(Clone, Debug)]
+pub struct SsrSettings {
+    /// Object thickness relative to its depth (HDRP default 0.01).
+    pub thickness: f32,
+    /// Screen edge fade length in [-1, 1] clip units (HDRP default 0.1).
+    pub screen_fade: f32,
+    /// Pixels smoother than this are traced: perceptual roughness <= 1 - min_smoothness
+    /// (HDRP default 0.9; the scenes here use 0.4 to study glossy reflections).
+    pub min_smoothness: f32,
+    /// The roughness fade starts at perceptual roughness 1 - smoothness_fade_start (HDRP 0.9).
+    pub smoothness_fade_start: f32,
+    /// Hi-Z iteration limit (HDRP quality presets 16 / 32 / 64 "max ray steps").
+    pub hiz_max_iterations: u32,
+    /// Highest depth-pyramid mip the Hi-Z tracer climbs to (clamped to the pyramid).
+    pub hiz_max_mip: u32,
+    /// Reject hits on surfaces facing away from the ray.
+    pub backface_reject: bool,
+    pub frame: u32,
+}
+
+impl Default for SsrSettings {
+    fn default() -> Self {
+        SsrSettings {
+            thickness: 0.01,
+            screen_fade: 0.1,
+            min_smoothness: 0.4,
+            smoothness_fade_start: 0.5,
+            hiz_max_iterations: 64,
+            hiz_max_mip: 16,
+            backface_reject: true,
+            frame: 0,
+        }
+    }
+}
+
+/// Number of levels of a full pyramid over w x h (down to 1x1).
+pub fn mip_levels(w: u32, h: u32) -> u32 {
+    let mut l = 1;
+    while mip_size(w, l - 1) > 1 || mip_size(h, l - 1) > 1 {
+        l += 1;
+    }
+    l
+}
+
+/// Texels in a full pyramid.
+pub fn pyramid_texels(w: u32, h: u32) -> usize {
+    (0..mip_levels(w, h)).map(|l| (mip_size(w, l) * mip_size(h, l)) as usize).sum()
+}
+
+/// The parameter buffer for `gb` and `s` (pipeline-specific values are set by the caller).
+pub fn build_params(gb: &GBuffer, s: &SsrSettings) -> Result<Vec<f32>> {
+    let (w, h) = (gb.width as u32, gb.height as u32);
+    let mut b = vec![0.0f32; idx::LEN];
+    let u = |v: u32| f32::from_bits(v);
+    b[idx::WIDTH] = u(w);
+    b[idx::HEIGHT] = u(h);
+    b[idx::NEAR] = gb.camera.near;
+    b[idx::THICKNESS_SCALE] = 1.0 / (1.0 + s.thickness);
+    b[idx::THICKNESS_BIAS] = 0.0;
+    b[idx::EDGE_FADE_RCP_LENGTH] = (1.0 / s.screen_fade).min(f32::MAX);
+    // HDRP: roughnessFadeEnd = 1 - minSmoothness, roughnessFadeStart = 1 - smoothnessFadeStart.
+    let fade_end = 1.0 - s.min_smoothness;
+    let fade_start = 1.0 - s.smoothness_fade_start;
+    let fade_len = fade_end - fade_start;
+    let (rcp, end_rcp) = if fade_len != 0.0 { (1.0 / fade_len, fade_end * (1.0 / fade_len)) } else { (0.0, 1.0) };
+    b[idx::ROUGHNESS_FADE_RCP_LENGTH] = rcp;
+    b[idx::ROUGHNESS_FADE_END_TIMES_RCP_LENGTH] = end_rcp;
+    b[idx::ROUGHNESS_FADE_END] = fade_end;
+    b[idx::HIZ_MAX_ITERATIONS] = u(s.hiz_max_iterations);
+    let levels = mip_levels(w, h);
+    b[idx::DEPTH_MAX_MIP] = u(s.hiz_max_mip.min(levels - 1));
+    b[idx::LINEAR_STEPS] = u(32);
+    b[idx::TRACE_MODE] = u(params::TRACE_HIZ);
+    b[idx::COLOR_MAX_MIP] = u(levels - 1);
+    b[idx::FRAME] = u(s.frame);
+    b[idx::FLAGS] = u(if s.backface_reject { params::FLAG_BACKFACE_REJECT } else { 0 });
+    b[idx::HIZ_ROUGHNESS_CUT] = 0.2;
+    b[idx::ROUGH_LINEAR_STEPS] = u(16);
+    b[idx::SAMPLES_PER_PIXEL] = u(1);
+    b[idx::RAYS_PER_QUAD] = u(4);
+    b[idx::SAMPLE_BIAS] = 0.0;
+    b[idx::RESOLVE_RADIUS] = u(1);
+    b[idx::TEMPORAL_ALPHA] = 0.1;
+    b[idx::MIP_COUNT] = u(levels);
+    let view = gb.camera.view();
+    let proj = gb.camera.proj(gb.width, gb.height);
+    let prev_vp = gb.previous_camera.proj(gb.width, gb.height).mul_mat(&gb.previous_camera.view());
+    let inv_view = gb.camera.inv_view()?;
+    for (base, m) in [(idx::VIEW, view), (idx::PROJ, proj), (idx::PREV_VIEW_PROJ, prev_vp), (idx::INV_VIEW, inv_view)] {
+        b[base..base + 16].copy_from_slice(&m.to_rows());
+    }
+    Ok(b)
+}
+
+pub fn set_u32(b: &mut [f32], i: usize, v: u32) {
+    b[i] = f32::from_bits(v);
+}
+
+/// One pass's time.
+#[derive(Clone, Debug)]
+pub struct PassTime {
+    pub name: String,
+    pub seconds: f64,
+    pub source: TimingSource,
+}
+
+/// Runs passes on one backend and records their times.
+pub struct Runner<'a> {
+    pub backend: &'a Backend,
+    pub times: Vec<PassTime>,
+}
+
+fn bytes(v: &[f32]) -> &[u8] {
+    bytemuck::cast_slice(v)
+}
+
+impl<'a> Runner<'a> {
+    pub fn new(backend: &'a Backend) -> Self {
+        Runner { backend, times: Vec::new() }
+    }
+
+    fn record(&mut self, name: &str, t: Timing) {
+        if let Some(p) = self.times.iter_mut().find(|p| p.name == name) {
+            p.seconds += t.seconds;
+            if p.source != t.source {
+                p.source = TimingSource::WallClock;
+            }
+        } else {
+            self.times.push(PassTime { name: name.into(), seconds: t.seconds, source: t.source });
+        }
+    }
+
+    /// Total seconds over every recorded pass.
+    pub fn total_seconds(&self) -> f64 {
+        self.times.iter().map(|p| p.seconds).sum()
+    }
+
+    /// Run `entry` over `count` invocations with `extra` args, read-only `inputs` and one output
+    /// buffer of `out_len` floats (initialized from `init` when given).
+    pub(crate) fn gpu_pass(&mut self, name: &str, entry: &str, count: u32, extra: &[u32], inputs: &[&[f32]], out_len: usize, init: Option<&[f32]>) -> Result<Vec<f32>> {
+        let Backend::Gpu(g) = self.backend else { unreachable!() };
+        let wg = shader_kernels::WORKGROUP_SIZE;
+        let (gx, gy) = groups_2d(count.div_ceil(wg));
+        let mut args = vec![count, gx];
+        args.extend_from_slice(extra);
+        let mut ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args)];
+        ins.extend(inputs.iter().map(|v| bytes(v)));
+        let spec = OutputSpec { size: out_len * 4, init: init.map(bytes) };
+        let (res, t) = g.dispatch(entry, &ins, &[spec], (gx, gy, 1)).with_context(|| format!("GPU pass {name}"))?;
+        self.record(name, t);
+        Ok(bytemuck::cast_slice(&res[0]).to_vec())
+    }
+
+    pub(crate) fn cpu_timed<T>(&mut self, name: &str, f: impl FnOnce() -> T) -> T {
+        let t0 = Instant::now();
+        let r = f();
+        self.record(name, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock });
+        r
+    }
+
+    /// The min-linear-depth pyramid of `depth` (level 0 = depth), all levels packed.
+    pub fn depth_pyramid(&mut self, consts: &[f32], depth: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let total = pyramid_texels(p.width, p.height);
+        let mut pyr = vec![0.0f32; total];
+        pyr[..depth.len()].copy_from_slice(depth);
+        for level in 1..p.mip_count {
+            let (w, h) = (mip_size(p.width, level), mip_size(p.height, level));
+            let off = trace::p_mip_offset(&p, level) as usize;
+            let n = (w * h) as usize;
+            match self.backend {
+                Backend::Cpu => {
+                    self.cpu_timed("depth pyramid", || {
+                        let (src, dst) = pyr.split_at_mut(off);
+                        dst[..n].par_iter_mut().enumerate().for_each(|(i, o)| {
+                            let i = i as u32;
+                            *o = trace::hiz_downsample_texel(&p, src, level, i % w, i / w);
+                        });
+                    });
+                }
+                Backend::Gpu(_) => {
+                    pyr = self.gpu_pass("depth pyramid", "ssr::ssr_hiz_downsample", n as u32, &[level], &[consts], total, Some(&pyr))?;
+                }
+            }
+        }
+        Ok(pyr)
+    }
+
+    /// The colour pyramid (RGB, 2x2 box filter per level).
+    pub fn color_pyramid(&mut self, consts: &[f32], color: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let total = pyramid_texels(p.width, p.height) * COLOR_STRIDE;
+        let mut pyr = vec![0.0f32; total];
+        pyr[..color.len()].copy_from_slice(color);
+        for level in 1..p.mip_count {
+            let (w, h) = (mip_size(p.width, level), mip_size(p.height, level));
+            let off = trace::p_mip_offset(&p, level) as usize * COLOR_STRIDE;
+            let n = (w * h) as usize;
+            match self.backend {
+                Backend::Cpu => {
+                    self.cpu_timed("color pyramid", || {
+                        let (src, dst) = pyr.split_at_mut(off);
+                        dst[..n * COLOR_STRIDE].par_chunks_mut(COLOR_STRIDE).enumerate().for_each(|(i, o)| {
+                            let i = i as u32;
+                            let c = resolve::color_downsample_texel(&p, src, level, i % w, i / w);
+                            o.copy_from_slice(&[c.x, c.y, c.z]);
+                        });
+                    });
+                }
+                Backend::Gpu(_) => {
+                    pyr = self.gpu_pass("color pyramid", "ssr::ssr_color_downsample", n as u32, &[level], &[consts], total, Some(&pyr))?;
+                }
+            }
+        }
+        Ok(pyr)
+    }
+
+    /// HDRP tracing pass: a ray record per pixel.
+    pub fn hdrp_trace(&mut self, consts: &[f32], gbuf: &[f32], depth_pyr: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let n = (p.width * p.height) as usize;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("trace", || {
+                let mut out = vec![0.0f32; n * RAY_STRIDE];
+                out.par_chunks_mut(RAY_STRIDE).enumerate().for_each(|(i, o)| {
+                    let i = i as u32;
+                    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, i % p.width, i / p.width, o, 0);
+                });
+                out
+            })),
+            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", n as u32, &[], &[consts, gbuf, depth_pyr], n * RAY_STRIDE, None),
+        }
+    }
+
+    /// HDRP reprojection / resolve pass: (rgb premultiplied, opacity) per pixel.
+    pub fn hdrp_reproject(&mut self, consts: &[f32], gbuf: &[f32], color_pyr: &[f32], rays: &[f32], mode: HdrpResolve) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let n = (p.width * p.height) as usize;
+        let arg = mode.arg();
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("resolve", || {
+                let mut out = vec![0.0f32; n * OUT_STRIDE];
+                out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
+                    let i = i as u32;
+                    let (x, y) = (i % p.width, i / p.width);
+                    if arg == 0 {
+                        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, o, 0);
+                    } else {
+                        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, arg - 1, x, y, o, 0);
+                    }
+                });
+                out
+            })),
+            Backend::Gpu(_) => {
+                self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[arg], &[consts, gbuf, color_pyr, rays], n * OUT_STRIDE, None)
+            }
+        }
+    }
+}
+
+/// Everything one HDRP run produces.
+#[derive(Clone, Debug)]
+pub struct SsrResult {
+    pub width: usize,
+    pub height: usize,
+    pub depth_pyramid: Vec<f32>,
+    pub color_pyramid: Vec<f32>,
+    /// Ray records (`RAY_STRIDE` per pixel, or per pixel and sample for SSSR).
+    pub rays: Vec<f32>,
+    /// Premultiplied (rgb, opacity) per pixel.
+    pub reflection: Vec<f32>,
+    pub times: Vec<PassTime>,
+    /// Extra outputs of the stochastic pipeline (tile classes etc.).
+    pub tiles: Option<super::sssr::TileStats>,
+}
+
+/// Run HDRP's SSR (trace + reprojection/resolve) on `gb`.
+pub fn run_hdrp(backend: &Backend, gb: &GBuffer, s: &SsrSettings, trace_mode: TraceMode, resolve_mode: HdrpResolve) -> Result<SsrResult> {
+    let mut consts = build_params(gb, s)?;
+    match trace_mode {
+        TraceMode::HiZ => set_u32(&mut consts, idx::TRACE_MODE, params::TRACE_HIZ),
+        TraceMode::Linear(n) => {
+            set_u32(&mut consts, idx::TRACE_MODE, params::TRACE_LINEAR);
+            set_u32(&mut consts, idx::LINEAR_STEPS, n);
+        }
+        TraceMode::BruteForce => set_u32(&mut consts, idx::TRACE_MODE, params::TRACE_BRUTE_FORCE),
+    }
+    if resolve_mode != HdrpResolve::Approx {
+        // HDRP's non-approximate mode traces GGX-sampled rays (one per pixel).
+        let flags = consts[idx::FLAGS].to_bits() | params::FLAG_STOCHASTIC;
+        set_u32(&mut consts, idx::FLAGS, flags);
+    }
+    let gbuf = gb.packed();
+    let mut r = Runner::new(backend);
+    let depth_pyramid = r.depth_pyramid(&consts, &gb.depth)?;
+    let color_pyramid = r.color_pyramid(&consts, &gb.color)?;
+    let rays = r.hdrp_trace(&consts, &gbuf, &depth_pyramid)?;
+    let reflection = r.hdrp_reproject(&consts, &gbuf, &color_pyramid, &rays, resolve_mode)?;
+    Ok(SsrResult {
+        width: gb.width,
+        height: gb.height,
+        depth_pyramid,
+        color_pyramid,
+        rays,
+        reflection,
+        times: r.times,
+        tiles: None,
+    })
+}

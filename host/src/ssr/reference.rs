@@ -1,0 +1,191 @@
+//! The ray-traced reference: the true specular reflection of every glossy pixel, by casting rays
+//! in the analytic scene (f64), split into what any ray sees ("all geometry") and what a
+//! screen-space method could at best see ("on-screen geometry only": a hit counts only if its
+//! point projects inside the screen and is the surface visible there; otherwise the ray sees the
+//! fallback, the sky, as SSR's composite would).
+//!
+//! Mirror pixels (perceptual roughness 0) use the one reflected ray; glossy pixels average
+//! GGX-VNDF-sampled rays (Heitz 2018; stratified) with weights G2/G1 = (1 + Lambda(v)) /
+//! (1 + Lambda(v) + Lambda(l)) (height-correlated Smith, F = 1): the same normalized-BRDF average
+//! HDRP's and the stochastic SSR's outputs estimate (before the FG term).
+
+use super::camera::{add, dot, normalize, scale, sub, V3};
+use super::gbuffer::GBuffer;
+use super::scene::{basis, Scene};
+use rayon::prelude::*;
+
+/// The reference for one frame.
+#[derive(Clone, Debug)]
+pub struct Reference {
+    pub width: usize,
+    pub height: usize,
+    /// RGB per pixel, all geometry.
+    pub all: Vec<f32>,
+    /// RGB per pixel, on-screen geometry only.
+    pub onscreen: Vec<f32>,
+    /// Weighted fraction of rays whose result is the same both ways (escaped, or hit visible
+    /// on-screen geometry), per pixel.
+    pub onscreen_fraction: Vec<f32>,
+    /// Pixels the reference covers: geometry with perceptual roughness <= the cut-off.
+    pub glossy: Vec<bool>,
+    /// Mirror pixels: the screen position (pixels) of the reflected ray's hit when it is visible
+    /// on screen; NaN otherwise (2 per pixel).
+    pub mirror_hit: Vec<f32>,
+    pub samples: u32,
+}
+
+fn lambda(c: f64, alpha: f64) -> f64 {
+    let c2 = (c * c).min(1.0);
+    let t2 = (1.0 - c2) / c2;
+    0.5 * (-1.0 + (1.0 + alpha * alpha * t2).sqrt())
+}
+
+/// Heitz 2018 VNDF sample in the local frame (v.z > 0), f64.
+fn sample_vndf(v: V3, alpha: f64, u1: f64, u2: f64) -> V3 {
+    let vh = normalize([alpha * v[0], alpha * v[1], v[2]]);
+    let lensq = vh[0] * vh[0] + vh[1] * vh[1];
+    let t1 = if lensq > 0.0 { scale([-vh[1], vh[0], 0.0], 1.0 / lensq.sqrt()) } else { [1.0, 0.0, 0.0] };
+    let t2 = [vh[1] * t1[2] - vh[2] * t1[1], vh[2] * t1[0] - vh[0] * t1[2], vh[0] * t1[1] - vh[1] * t1[0]];
+    let r = u1.sqrt();
+    let phi = 2.0 * std::f64::consts::PI * u2;
+    let p1 = r * phi.cos();
+    let mut p2 = r * phi.sin();
+    let s = 0.5 * (1.0 + vh[2]);
+    p2 = (1.0 - s) * (1.0 - p1 * p1).sqrt() + s * p2;
+    let pz = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+    let nh = add(add(scale(t1, p1), scale(t2, p2)), scale(vh, pz));
+    normalize([alpha * nh[0], alpha * nh[1], nh[2].max(0.0)])
+}
+
+fn hash64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
+}
+
+fn unit(x: u64) -> f64 {
+    (x >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// Render the reference for frame `frame` of `scene`, matching G-buffer `gb` (same size and
+/// camera), for pixels with perceptual roughness <= `max_roughness`, with `samples` rays per
+/// glossy pixel (rounded to a square for stratification).
+pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples: u32) -> Reference {
+    let (w, h) = (gb.width, gb.height);
+    let cam = gb.camera;
+    let eye = cam.eye();
+    let strata = (samples as f64).sqrt().round().max(1.0) as u32;
+    let sky = [scene.sky[0] as f64, scene.sky[1] as f64, scene.sky[2] as f64];
+    let rows: Vec<([f32; 3], [f32; 3], f32, bool, [f32; 2])> = (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            let d = cam.ray_dir(w, h, x as f64 + 0.5, y as f64 + 0.5);
+            let Some(hit) = scene.cast(eye, d, 1e-9) else { return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2]) };
+            let m = &scene.objects[hit.object].material;
+            let rough = m.roughness_at(hit.p);
+            if rough > max_roughness {
+                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2]);
+            }
+            let n = hit.n;
+            let v = scale(d, -1.0);
+            let nv = dot(n, v);
+            if nv <= 0.0 {
+                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2]);
+            }
+            let alpha = f64::from(rough) * f64::from(rough);
+            let (t, b) = basis(n);
+            let vl = [dot(v, t), dot(v, b), nv];
+            let origin = add(hit.p, scale(n, 1e-6));
+            let mut acc_all = [0.0; 3];
+            let mut acc_on = [0.0; 3];
+            let mut acc_same = 0.0;
+            let mut acc_w = 0.0;
+            let mut mirror_hit = [f32::NAN; 2];
+            let count = if rough == 0.0 { 1 } else { strata * strata };
+            for k in 0..count {
+                let l = if rough == 0.0 {
+                    sub(scale(n, 2.0 * nv), v)
+                } else {
+                    let hsh = hash64((i as u64) << 20 ^ k as u64);
+                    let (sx, sy) = ((k % strata) as f64, (k / strata) as f64);
+                    let u1 = (sx + unit(hsh)) / strata as f64;
+                    let u2 = (sy + unit(hash64(hsh))) / strata as f64;
+                    let m_l = sample_vndf(vl, alpha, u1, u2);
+                    let m_w = add(add(scale(t, m_l[0]), scale(b, m_l[1])), scale(n, m_l[2]));
+                    sub(scale(m_w, 2.0 * dot(v, m_w)), v)
+                };
+                let nl = dot(n, l);
+                if nl <= 0.0 {
+                    continue;
+                }
+                let wgt = if rough == 0.0 {
+                    1.0
+                } else {
+                    let lv = lambda(nv, alpha) + 1.0;
+                    lv / (lv + lambda(nl, alpha))
+                };
+                let (c_all, c_on) = match scene.cast(origin, l, 1e-6) {
+                    None => (sky, sky),
+                    Some(rh) => {
+                        let c = scene.shade(&rh);
+                        let vv = cam.to_view(rh.p);
+                        let mut on = false;
+                        if vv[2] > f64::from(cam.near) {
+                            let (px, py) = cam.view_to_screen(w, h, vv);
+                            if px >= 0.0 && py >= 0.0 && px < w as f64 && py < h as f64 {
+                                let to = sub(rh.p, eye);
+                                let dist = dot(to, to).sqrt();
+                                if let Some(vh) = scene.cast(eye, scale(to, 1.0 / dist), 1e-9) {
+                                    on = (vh.t - dist).abs() <= 1e-6 * dist.max(1.0) * 10.0;
+                                }
+                                if on && rough == 0.0 {
+                                    mirror_hit = [px as f32, py as f32];
+                                }
+                            }
+                        }
+                        (c, if on { c } else { sky })
+                    }
+                };
+                for k in 0..3 {
+                    acc_all[k] += wgt * c_all[k];
+                    acc_on[k] += wgt * c_on[k];
+                }
+                if c_all == c_on {
+                    acc_same += wgt;
+                }
+                acc_w += wgt;
+            }
+            if acc_w <= 0.0 {
+                return (
+                    [sky[0] as f32, sky[1] as f32, sky[2] as f32],
+                    [sky[0] as f32, sky[1] as f32, sky[2] as f32],
+                    1.0,
+                    true,
+                    mirror_hit,
+                );
+            }
+            let f = |a: [f64; 3]| [(a[0] / acc_w) as f32, (a[1] / acc_w) as f32, (a[2] / acc_w) as f32];
+            (f(acc_all), f(acc_on), (acc_same / acc_w) as f32, true, mirror_hit)
+        })
+        .collect();
+    let mut r = Reference {
+        width: w,
+        height: h,
+        all: Vec::with_capacity(3 * w * h),
+        onscreen: Vec::with_capacity(3 * w * h),
+        onscreen_fraction: Vec::with_capacity(w * h),
+        glossy: Vec::with_capacity(w * h),
+        mirror_hit: Vec::with_capacity(2 * w * h),
+        samples: if samples <= 1 { 1 } else { strata * strata },
+    };
+    for (a, o, f, g, m) in rows {
+        r.mirror_hit.extend_from_slice(&m);
+        r.all.extend_from_slice(&a);
+        r.onscreen.extend_from_slice(&o);
+        r.onscreen_fraction.push(f);
+        r.glossy.push(g);
+    }
+    r
+}

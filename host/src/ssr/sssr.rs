@@ -1,0 +1,332 @@
+//! Stochastic screen-space reflections (Stachowiak 2015) on the host: the pass sequence
+//! classify -> prefix sum -> emit -> trace (over the compacted list) -> resolve -> temporal,
+//! on either backend, and the multi-frame driver for temporal accumulation.
+
+use super::gbuffer::GBuffer;
+use super::pipeline::{build_params, set_u32, Runner, SsrResult, SsrSettings};
+use super::scene::Scene;
+use crate::Backend;
+use anyhow::Result;
+use rayon::prelude::*;
+use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_STOCHASTIC};
+use shader_core::ssr::resolve::OUT_STRIDE;
+use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
+use shader_core::ssr::trace::RAY_STRIDE;
+
+/// Stochastic SSR settings.
+#[derive(Clone, Debug)]
+pub struct SssrSettings {
+    /// Rays per 2x2 quad: 1, 2 or 4.
+    pub rays_per_quad: u32,
+    /// Rays per tracing pixel: 1..=8.
+    pub samples_per_pixel: u32,
+    /// Resolve with the neighbours' rays (ray reuse).
+    pub reuse: bool,
+    /// Neighbourhood radius of the resolve (1 = 3x3).
+    pub resolve_radius: u32,
+    /// Frames of temporal accumulation ending at the requested frame (1 = none).
+    pub temporal_frames: u32,
+    /// Minimum temporal blend weight.
+    pub temporal_alpha: f32,
+    /// Importance-sampling bias (truncated radial u).
+    pub sample_bias: f32,
+    /// Perceptual roughness from which rays use the linear march.
+    pub hiz_roughness_cut: f32,
+    /// Steps of that linear march.
+    pub rough_linear_steps: u32,
+    /// Filtered importance sampling from the colour pyramid.
+    pub fis: bool,
+}
+
+impl Default for SssrSettings {
+    fn default() -> Self {
+        SssrSettings {
+            rays_per_quad: 4,
+            samples_per_pixel: 1,
+            reuse: true,
+            resolve_radius: 1,
+            temporal_frames: 1,
+            temporal_alpha: 0.1,
+            sample_bias: 0.1,
+            hiz_roughness_cut: 0.2,
+            rough_linear_steps: 16,
+            fis: true,
+        }
+    }
+}
+
+/// Tile classification statistics.
+#[derive(Clone, Debug, Default)]
+pub struct TileStats {
+    pub tiles: usize,
+    pub skipped: usize,
+    pub rays: usize,
+    pub eligible_pixels: usize,
+    /// Class per tile (`stochastic::TILE_*`), row-major.
+    pub classes: Vec<u32>,
+}
+
+/// The parameter buffer of a stochastic run.
+pub fn sssr_params(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Vec<f32>> {
+    let mut c = build_params(gb, s)?;
+    if !matches!(t.rays_per_quad, 1 | 2 | 4) {
+        anyhow::bail!("rays per quad must be 1, 2 or 4 (got {})", t.rays_per_quad);
+    }
+    if !(1..=8).contains(&t.samples_per_pixel) {
+        anyhow::bail!("samples per pixel must be in 1..=8 (got {})", t.samples_per_pixel);
+    }
+    set_u32(&mut c, idx::RAYS_PER_QUAD, t.rays_per_quad);
+    set_u32(&mut c, idx::SAMPLES_PER_PIXEL, t.samples_per_pixel);
+    set_u32(&mut c, idx::RESOLVE_RADIUS, t.resolve_radius);
+    set_u32(&mut c, idx::ROUGH_LINEAR_STEPS, t.rough_linear_steps);
+    c[idx::SAMPLE_BIAS] = t.sample_bias;
+    c[idx::HIZ_ROUGHNESS_CUT] = t.hiz_roughness_cut;
+    c[idx::TEMPORAL_ALPHA] = t.temporal_alpha;
+    let mut flags = c[idx::FLAGS].to_bits() | FLAG_STOCHASTIC;
+    if t.reuse {
+        flags |= FLAG_REUSE;
+    }
+    if t.fis {
+        flags |= FLAG_FIS;
+    }
+    set_u32(&mut c, idx::FLAGS, flags);
+    Ok(c)
+}
+
+impl Runner<'_> {
+    /// Tile classification: `TILE_STRIDE` words per tile.
+    pub fn sssr_classify(&mut self, consts: &[f32], gbuf: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
+        let n = (tx * ty) as usize;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("classify", || {
+                let mut out = vec![0.0f32; n * TILE_STRIDE];
+                out.par_chunks_mut(TILE_STRIDE).enumerate().for_each(|(i, o)| {
+                    let i = i as u32;
+                    let (c, r, e) = stochastic::classify_tile(&p, gbuf, i % tx, i / tx);
+                    o.copy_from_slice(&[f32::from_bits(c), f32::from_bits(r), f32::from_bits(e), 0.0]);
+                });
+                out
+            })),
+            Backend::Gpu(_) => self.gpu_pass("classify", "ssr::sssr_classify", n as u32, &[], &[consts, gbuf], n * TILE_STRIDE, None),
+        }
+    }
+
+    /// Prefix sum of the tiles' ray counts (n + 1 words, the last the total).
+    pub fn sssr_prefix(&mut self, tiles: &[f32]) -> Result<Vec<f32>> {
+        let n = tiles.len() / TILE_STRIDE;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("compact", || {
+                let mut out = vec![0.0f32; n + 1];
+                stochastic::prefix_sum_tiles(tiles, n as u32, &mut out);
+                out
+            })),
+            Backend::Gpu(_) => self.gpu_pass("compact", "ssr::sssr_prefix", 1, &[n as u32], &[tiles], n + 1, None),
+        }
+    }
+
+    /// The compacted ray list (`LIST_STRIDE` words per ray).
+    pub fn sssr_emit(&mut self, consts: &[f32], gbuf: &[f32], offsets: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
+        let n = (tx * ty) as usize;
+        let total = offsets[n].to_bits() as usize;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("compact", || {
+                let mut list = vec![0.0f32; total.max(1) * LIST_STRIDE];
+                for t in 0..n as u32 {
+                    stochastic::emit_tile_rays(&p, gbuf, offsets, t % tx, t / tx, &mut list);
+                }
+                list
+            })),
+            Backend::Gpu(_) => {
+                self.gpu_pass("compact", "ssr::sssr_emit", n as u32, &[], &[consts, gbuf, offsets], total.max(1) * LIST_STRIDE, None)
+            }
+        }
+    }
+
+    /// Trace the list; records land at pixel * samples + sample.
+    pub fn sssr_trace(&mut self, consts: &[f32], gbuf: &[f32], depth_pyr: &[f32], list: &[f32], count: usize) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("trace", || {
+                let recs: Vec<(usize, [f32; RAY_STRIDE])> = (0..count as u32)
+                    .into_par_iter()
+                    .map(|k| {
+                        let mut r = [0.0f32; RAY_STRIDE];
+                        stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, &mut r, 0);
+                        let pixel = list[k as usize * LIST_STRIDE].to_bits();
+                        let smp = list[k as usize * LIST_STRIDE + 1].to_bits() & 0xff;
+                        ((pixel * p.samples_per_pixel + smp) as usize, r)
+                    })
+                    .collect();
+                let mut rays = vec![0.0f32; slots * RAY_STRIDE];
+                for (slot, r) in recs {
+                    rays[slot * RAY_STRIDE..(slot + 1) * RAY_STRIDE].copy_from_slice(&r);
+                }
+                rays
+            })),
+            Backend::Gpu(_) => {
+                let zeros = vec![0.0f32; slots * RAY_STRIDE];
+                if count == 0 {
+                    return Ok(zeros);
+                }
+                self.gpu_pass("trace", "ssr::sssr_trace", count as u32, &[], &[consts, gbuf, depth_pyr, list], slots * RAY_STRIDE, Some(&zeros))
+            }
+        }
+    }
+
+    /// The ratio-estimator resolve.
+    pub fn sssr_resolve(&mut self, consts: &[f32], gbuf: &[f32], color_pyr: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let n = (p.width * p.height) as usize;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("resolve", || {
+                let mut out = vec![0.0f32; n * OUT_STRIDE];
+                out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
+                    let i = i as u32;
+                    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, o, 0);
+                });
+                out
+            })),
+            Backend::Gpu(_) => {
+                self.gpu_pass("resolve", "ssr::sssr_resolve", n as u32, &[], &[consts, gbuf, color_pyr, rays], n * OUT_STRIDE, None)
+            }
+        }
+    }
+
+    /// Temporal accumulation: new history (`HISTORY_STRIDE` per pixel).
+    pub fn sssr_temporal(&mut self, consts: &[f32], gbuf: &[f32], current: &[f32], history: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let n = (p.width * p.height) as usize;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("temporal", || {
+                let mut out = vec![0.0f32; n * HISTORY_STRIDE];
+                out.par_chunks_mut(HISTORY_STRIDE).enumerate().for_each(|(i, o)| {
+                    let i = i as u32;
+                    stochastic::temporal_pixel(&p, gbuf, current, history, i % p.width, i / p.width, o, 0);
+                });
+                out
+            })),
+            Backend::Gpu(_) => self.gpu_pass(
+                "temporal",
+                "ssr::sssr_temporal",
+                n as u32,
+                &[],
+                &[consts, gbuf, current, history],
+                n * HISTORY_STRIDE,
+                None,
+            ),
+        }
+    }
+}
+
+/// One frame of stochastic SSR on `gb` (no temporal pass). Returns the result and its ray list.
+pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<(SsrResult, Vec<f32>)> {
+    let consts = sssr_params(gb, s, t)?;
+    let gbuf = gb.packed();
+    let mut r = Runner::new(backend);
+    let depth_pyramid = r.depth_pyramid(&consts, &gb.depth)?;
+    let color_pyramid = r.color_pyramid(&consts, &gb.color)?;
+    let tiles = r.sssr_classify(&consts, &gbuf)?;
+    let offsets = r.sssr_prefix(&tiles)?;
+    let n_tiles = tiles.len() / TILE_STRIDE;
+    let count = offsets[n_tiles].to_bits() as usize;
+    let list = r.sssr_emit(&consts, &gbuf, &offsets)?;
+    let rays = r.sssr_trace(&consts, &gbuf, &depth_pyramid, &list, count)?;
+    let reflection = r.sssr_resolve(&consts, &gbuf, &color_pyramid, &rays)?;
+    let classes: Vec<u32> = tiles.chunks_exact(TILE_STRIDE).map(|c| c[0].to_bits()).collect();
+    let stats = TileStats {
+        tiles: n_tiles,
+        skipped: classes.iter().filter(|&&c| c == TILE_SKIP).count(),
+        rays: count,
+        eligible_pixels: tiles.chunks_exact(TILE_STRIDE).map(|c| c[2].to_bits() as usize).sum(),
+        classes,
+    };
+    Ok((
+        SsrResult {
+            width: gb.width,
+            height: gb.height,
+            depth_pyramid,
+            color_pyramid,
+            rays,
+            reflection,
+            times: r.times,
+            tiles: Some(stats),
+        },
+        list,
+    ))
+}
+
+/// Stochastic SSR at `frame`, with `frames` frames of temporal accumulation ending there (the
+/// earlier frames are rendered from `scene` when given, else `gb` is reused with new random
+/// numbers). Times are those of the last frame (temporal pass included).
+pub fn run_sssr(
+    backend: &Backend,
+    scene: Option<&Scene>,
+    gb: &GBuffer,
+    s: &SsrSettings,
+    t: &SssrSettings,
+    frame: u32,
+    frames: u32,
+) -> Result<SsrResult> {
+    let frames = frames.max(1);
+    let mut history: Option<Vec<f32>> = None;
+    let mut last = None;
+    for k in 0..frames {
+        let f = (frame + k + 1).saturating_sub(frames);
+        let g_owned;
+        let g = match scene {
+            Some(sc) if k + 1 < frames && sc.animated() => {
+                g_owned = sc.render_gbuffer(gb.width, gb.height, f);
+                &g_owned
+            }
+            _ => gb,
+        };
+        let mut ss = s.clone();
+        // Random numbers vary per frame even when the camera does not.
+        ss.frame = frame.wrapping_mul(1024).wrapping_add(k);
+        let (mut res, _) = sssr_frame(backend, g, &ss, t)?;
+        if frames > 1 {
+            let consts = sssr_params(g, &ss, t)?;
+            let n = g.width * g.height;
+            let hist = history.take().unwrap_or_else(|| vec![0.0; n * HISTORY_STRIDE]);
+            let mut r = Runner::new(backend);
+            let out = r.sssr_temporal(&consts, &g.packed(), &res.reflection, &hist)?;
+            res.times.extend(r.times);
+            res.reflection = out.chunks_exact(HISTORY_STRIDE).flat_map(|c| [c[0], c[1], c[2], c[3]]).collect();
+            history = Some(out);
+        }
+        last = Some(res);
+    }
+    Ok(last.expect("at least one frame"))
+}
+
+/// The ray-list order is a pure function of the G-buffer: a CPU reference for tests.
+pub fn expected_list(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Vec<(u32, u32)>> {
+    let consts = sssr_params(gb, s, t)?;
+    let p = SsrParams::load(&consts);
+    let gbuf = gb.packed();
+    let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
+    let mut v = Vec::new();
+    for t in 0..tx * ty {
+        let (bx, by) = (t % tx, t / tx);
+        for j in 0..TILE {
+            for i in 0..TILE {
+                let (x, y) = (bx * TILE + i, by * TILE + j);
+                if x >= p.width || y >= p.height {
+                    continue;
+                }
+                let surf = shader_core::ssr::trace::load_surface(&p, &gbuf, x, y);
+                if stochastic::eligible(&p, &surf) && stochastic::traces(&p, x, y, surf.perceptual_roughness) {
+                    for smp in 0..p.samples_per_pixel {
+                        v.push((y * p.width + x, smp));
+                    }
+                }
+            }
+        }
+    }
+    Ok(v)
+}

@@ -1,0 +1,339 @@
+//! Turning ray hits into reflected radiance: HDRP's fades, colour-pyramid sampling, the
+//! `SSR_APPROX` reprojection and the neighbourhood resolves weighted by `GetSSRSampleWeight`.
+//!
+//! Output texels are premultiplied: (rgb * opacity, opacity); a consumer composites
+//! `rgb + (1 - opacity) * fallback` (a reflection probe or the sky).
+
+use super::params::{mip_size, SsrParams};
+use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_STRIDE};
+use super::trace::info;
+use crate::masking;
+use crate::vector::Vec3;
+use spirv_std::num_traits::Float;
+
+/// Floats per output texel of a resolve: r, g, b (premultiplied), opacity.
+pub const OUT_STRIDE: usize = 4;
+/// Floats per colour texel: r, g, b.
+pub const COLOR_STRIDE: usize = 3;
+
+/// HDRP `Remap10(x, rcpLength, endTimesRcpLength)` = saturate(end*rcp - x*rcp): 1 below the fade
+/// start, 0 past its end.
+#[inline]
+pub fn remap10(x: f32, rcp_length: f32, end_times_rcp_length: f32) -> f32 {
+    clampf(end_times_rcp_length - x * rcp_length, 0.0, 1.0)
+}
+
+/// `Smoothstep01(x) = x x (3 - 2 x)` (x in [0, 1]).
+#[inline]
+pub fn smoothstep01(x: f32) -> f32 {
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// HDRP `PerceptualRoughnessFade` = Smoothstep01(Remap10(r, rcpLength, endTimesRcpLength)).
+#[inline]
+pub fn perceptual_roughness_fade(r: f32, rcp_length: f32, end_times_rcp_length: f32) -> f32 {
+    smoothstep01(remap10(r, rcp_length, end_times_rcp_length))
+}
+
+/// HDRP `EdgeOfScreenFade(coordNDC, fadeRcpLength)`: coordinates in [0, 1] mapped to [-1, 1],
+/// each axis faded over the last 1/fadeRcpLength of it; 0 outside the screen.
+#[inline]
+pub fn edge_of_screen_fade(u: f32, v: f32, fade_rcp_length: f32) -> f32 {
+    let cx = (u * 2.0 - 1.0).abs();
+    let cy = (v * 2.0 - 1.0).abs();
+    let tx = remap10(cx, fade_rcp_length, fade_rcp_length);
+    let ty = remap10(cy, fade_rcp_length, fade_rcp_length);
+    smoothstep01(tx) * smoothstep01(ty)
+}
+
+/// Smith GGX Lambda for a direction at cosine `c` to the normal, isotropic roughness alpha
+/// (Heitz 2014 eq. 86 through [`masking::ggx_lambda`]).
+#[inline]
+pub fn lambda_cos(c: f32, alpha: f32) -> f32 {
+    let s2 = 1.0 - c * c;
+    let s = if s2 > 0.0 { Float::sqrt(s2) } else { 0.0 };
+    masking::ggx_lambda(Vec3::new(s, 0.0, c), alpha, alpha)
+}
+
+/// HDRP `GetSSRSampleWeight(V, L, roughness)` = (1 + Lambda(V)) / (1 + Lambda(V) + Lambda(L)):
+/// the BRDF value over the VNDF pdf with F = 1 (height-correlated Smith G2 / G1). 0 when L is
+/// below the surface (n.l <= 0); `alpha` is the GGX roughness (perceptual squared).
+#[inline]
+pub fn ssr_sample_weight(n: Vec3, v: Vec3, l: Vec3, alpha: f32) -> f32 {
+    let nl = n.dot(l);
+    if !(nl > 0.0) {
+        return 0.0;
+    }
+    let lambda_v_plus_one = lambda_cos(n.dot(v), alpha) + 1.0;
+    let lambda_l = lambda_cos(nl, alpha);
+    lambda_v_plus_one / (lambda_v_plus_one + lambda_l)
+}
+
+/// `a + (b - a) t`.
+#[inline]
+pub fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    a + (b - a) * t
+}
+
+#[inline]
+fn lerp3(a: Vec3, b: Vec3, t: f32) -> Vec3 {
+    Vec3::new(lerp(a.x, b.x, t), lerp(a.y, b.y, t), lerp(a.z, b.z, t))
+}
+
+#[inline]
+fn clamp_i(x: i32, hi: u32) -> u32 {
+    if x < 0 {
+        0
+    } else if x as u32 > hi {
+        hi
+    } else {
+        x as u32
+    }
+}
+
+#[inline]
+fn texel(p: &SsrParams, pyr: &[f32], off: u32, w: u32, x: u32, y: u32) -> Vec3 {
+    let _ = p;
+    let b = ((off + y * w + x) as usize) * COLOR_STRIDE;
+    Vec3::new(pyr[b], pyr[b + 1], pyr[b + 2])
+}
+
+/// Bilinear sample of colour pyramid level `level` at (u, v) in [0, 1] (clamped), clamp-to-edge.
+pub fn sample_color_level(p: &SsrParams, pyr: &[f32], u: f32, v: f32, level: u32) -> Vec3 {
+    let w = mip_size(p.width, level);
+    let h = mip_size(p.height, level);
+    let off = super::trace::p_mip_offset(p, level);
+    let tx = clampf(u, 0.0, 1.0) * w as f32 - 0.5;
+    let ty = clampf(v, 0.0, 1.0) * h as f32 - 0.5;
+    let fx0 = Float::floor(tx);
+    let fy0 = Float::floor(ty);
+    let fx = tx - fx0;
+    let fy = ty - fy0;
+    let ix = fx0 as i32;
+    let iy = fy0 as i32;
+    let x0 = clamp_i(ix, w - 1);
+    let x1 = clamp_i(ix + 1, w - 1);
+    let y0 = clamp_i(iy, h - 1);
+    let y1 = clamp_i(iy + 1, h - 1);
+    let top = lerp3(texel(p, pyr, off, w, x0, y0), texel(p, pyr, off, w, x1, y0), fx);
+    let bottom = lerp3(texel(p, pyr, off, w, x0, y1), texel(p, pyr, off, w, x1, y1), fx);
+    lerp3(top, bottom, fy)
+}
+
+/// Trilinear sample of the colour pyramid at fractional mip `mip` (clamped to [0, color_max_mip]).
+pub fn sample_color(p: &SsrParams, pyr: &[f32], u: f32, v: f32, mip: f32) -> Vec3 {
+    let m = clampf(mip, 0.0, p.color_max_mip as f32);
+    let l0f = Float::floor(m);
+    let l0 = l0f as u32;
+    let f = m - l0f;
+    let c0 = sample_color_level(p, pyr, u, v, l0);
+    if f > 0.0 && l0 < p.color_max_mip {
+        let c1 = sample_color_level(p, pyr, u, v, l0 + 1);
+        lerp3(c0, c1, f)
+    } else {
+        c0
+    }
+}
+
+/// One texel of colour mip `level` (>= 1): the box average of the (up to) 2x2 texels of the level
+/// below it covers (edge texels repeated for odd sizes), summed as ((a + b) + (c + d)) * 0.25.
+pub fn color_downsample_texel(p: &SsrParams, pyr: &[f32], level: u32, x: u32, y: u32) -> Vec3 {
+    let pw = mip_size(p.width, level - 1);
+    let ph = mip_size(p.height, level - 1);
+    let off = super::trace::p_mip_offset(p, level - 1);
+    let x0 = 2 * x;
+    let y0 = 2 * y;
+    let x1 = if x0 + 1 < pw { x0 + 1 } else { x0 };
+    let y1 = if y0 + 1 < ph { y0 + 1 } else { y0 };
+    let a = texel(p, pyr, off, pw, x0, y0);
+    let b = texel(p, pyr, off, pw, x1, y0);
+    let c = texel(p, pyr, off, pw, x0, y1);
+    let d = texel(p, pyr, off, pw, x1, y1);
+    ((a + b) + (c + d)) * 0.25
+}
+
+/// A decoded ray record.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RayRecord {
+    pub valid: bool,
+    pub hit: bool,
+    /// Hit pixel centre (screen units).
+    pub hx: f32,
+    pub hy: f32,
+    pub pdf: f32,
+    pub dir: Vec3,
+}
+
+/// Decode the ray record at `rays[b..]`.
+#[inline]
+pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
+    let bits = rays[b + 3].to_bits();
+    RayRecord {
+        valid: bits & info::VALID != 0,
+        hit: bits & info::HIT != 0,
+        hx: rays[b],
+        hy: rays[b + 1],
+        pdf: rays[b + 4],
+        dir: Vec3::new(rays[b + 5], rays[b + 6], rays[b + 7]),
+    }
+}
+
+/// The hit pixel's previous-frame UV (its UV minus the motion vector stored at the hit pixel).
+#[inline]
+pub fn reproject_hit(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> (f32, f32) {
+    let x = hx as u32;
+    let y = hy as u32;
+    let b = ((y * p.width + x) as usize) * GBUF_STRIDE;
+    let u = hx / p.width as f32 - gbuf[b + 6];
+    let v = hy / p.height as f32 - gbuf[b + 7];
+    (u, v)
+}
+
+/// View-space position of a hit pixel (its centre at the G-buffer's linear depth).
+#[inline]
+pub fn hit_position(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> Vec3 {
+    let x = hx as u32;
+    let y = hy as u32;
+    let z = gbuf[((y * p.width + x) as usize) * GBUF_STRIDE];
+    view_position(p, hx, hy, z)
+}
+
+#[inline]
+fn store(out: &mut [f32], ob: usize, c: Vec3, a: f32) {
+    out[ob] = c.x;
+    out[ob + 1] = c.y;
+    out[ob + 2] = c.z;
+    out[ob + 3] = a;
+}
+
+/// HDRP reprojection with `SSR_APPROX`: the hit is reprojected through the motion vectors, the
+/// previous frame's colour pyramid is sampled at mip lerp(0, maxMip, perceptualRoughness), and
+/// the result is premultiplied by opacity = EdgeOfScreenFade(prevUV) * PerceptualRoughnessFade.
+pub fn hdrp_reproject_approx(
+    p: &SsrParams,
+    gbuf: &[f32],
+    color: &[f32],
+    rays: &[f32],
+    x: u32,
+    y: u32,
+    out: &mut [f32],
+    ob: usize,
+) {
+    let i = (y * p.width + x) as usize;
+    let r = load_ray(rays, i * RAY_STRIDE);
+    let rough = gbuf[i * GBUF_STRIDE + 4];
+    if !(r.valid && r.hit) {
+        store(out, ob, Vec3::ZERO, 0.0);
+        return;
+    }
+    let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
+    let opacity = edge_of_screen_fade(u, v, p.edge_fade_rcp_length)
+        * perceptual_roughness_fade(rough, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);
+    let mip = lerp(0.0, p.color_max_mip as f32, rough);
+    let c = sample_color(p, color, u, v, mip);
+    store(out, ob, c * opacity, opacity);
+}
+
+/// Neighbourhood shapes of [`hdrp_resolve_neighborhood`].
+pub const NEIGHBORHOOD_3X3: u32 = 0;
+pub const NEIGHBORHOOD_CROSS5: u32 = 1;
+
+/// Accumulate one neighbour's ray into the ratio sums for surface `s`.
+#[inline]
+fn accumulate_neighbor(
+    p: &SsrParams,
+    gbuf: &[f32],
+    color: &[f32],
+    rays: &[f32],
+    s: &Surface,
+    alpha: f32,
+    qx: u32,
+    qy: u32,
+    acc: &mut Vec3,
+    acc_a: &mut f32,
+    acc_w: &mut f32,
+) {
+    let r = load_ray(rays, ((qy * p.width + qx) as usize) * RAY_STRIDE);
+    if !r.valid {
+        return;
+    }
+    let l = if r.hit { (hit_position(p, gbuf, r.hx, r.hy) - s.pos).normalize_or_zero() } else { r.dir };
+    let w = ssr_sample_weight(s.n, s.v, l, alpha);
+    if !(w > 0.0) {
+        return;
+    }
+    if r.hit {
+        let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
+        let a = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
+        let c = sample_color(p, color, u, v, 0.0);
+        *acc = *acc + c * (a * w);
+        *acc_a += a * w;
+    }
+    *acc_w += w;
+}
+
+/// HDRP's non-approximate reprojection: the rays of a neighbourhood of the pixel (3x3 block, or
+/// the 5-tap cross: centre and its 4 edge neighbours) weighted by `GetSSRSampleWeight(V, L, alpha)`
+/// with L from this pixel to each neighbour's hit (a missed ray keeps its own direction and
+/// contributes weight with zero colour and opacity); colour at mip 0 times the hit's edge fade;
+/// the weighted average times this pixel's roughness fade.
+#[allow(clippy::too_many_arguments)]
+pub fn hdrp_resolve_neighborhood(
+    p: &SsrParams,
+    gbuf: &[f32],
+    color: &[f32],
+    rays: &[f32],
+    shape: u32,
+    x: u32,
+    y: u32,
+    out: &mut [f32],
+    ob: usize,
+) {
+    let s = load_surface(p, gbuf, x, y);
+    if !s.valid {
+        store(out, ob, Vec3::ZERO, 0.0);
+        return;
+    }
+    let alpha = s.perceptual_roughness * s.perceptual_roughness;
+    let mut acc = Vec3::ZERO;
+    let mut acc_a = 0.0;
+    let mut acc_w = 0.0;
+    let mut dy: i32 = -1;
+    while dy <= 1 {
+        let mut dx: i32 = -1;
+        while dx <= 1 {
+            let in_shape = shape == NEIGHBORHOOD_3X3 || dx == 0 || dy == 0;
+            let qx = x as i32 + dx;
+            let qy = y as i32 + dy;
+            if in_shape && qx >= 0 && qy >= 0 && (qx as u32) < p.width && (qy as u32) < p.height {
+                accumulate_neighbor(p, gbuf, color, rays, &s, alpha, qx as u32, qy as u32, &mut acc, &mut acc_a, &mut acc_w);
+            }
+            dx += 1;
+        }
+        dy += 1;
+    }
+    if !(acc_w > 0.0) {
+        store(out, ob, Vec3::ZERO, 0.0);
+        return;
+    }
+    let fade = perceptual_roughness_fade(s.perceptual_roughness, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);
+    let k = fade / acc_w;
+    store(out, ob, acc * k, acc_a * k);
+}
+
+/// log2(x) for x > 0 by the float's exponent plus its mantissa read linearly (exact operations
+/// only; at most 0.086 below the true log2; powers of two exact). 0 for x <= 0 or NaN.
+#[inline]
+pub fn log2_approx(x: f32) -> f32 {
+    if !(x > 0.0) {
+        return 0.0;
+    }
+    if x == f32::INFINITY {
+        return 128.0;
+    }
+    let bits = x.to_bits();
+    let e = ((bits >> 23) & 0xff) as i32 - 127;
+    let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    e as f32 + (m - 1.0)
+}
+

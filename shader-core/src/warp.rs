@@ -1,0 +1,58 @@
+//! Warps from the unit square to the disk and the hemisphere (PBRT-v4 section A.5), used by the
+//! BxDF samplers. The angles go through the project's deterministic [`crate::math`] sin/cos.
+//!
+//! Conventions: `u0`, `u1` are expected in [0, 1); values outside are not clamped (the maps are
+//! still defined, see each function), NaN propagates.
+
+use crate::math;
+use crate::vector::Vec3;
+use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
+use spirv_std::num_traits::Float;
+
+/// A point on the unit disk.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Point2 {
+    pub x: f32,
+    pub y: f32,
+}
+
+/// Uniform disk by the polar map (PBRT-v4 `SampleUniformDiskPolar`): r = sqrt(u0), phi = 2 pi u1.
+#[inline]
+pub fn sample_uniform_disk_polar(u0: f32, u1: f32) -> Point2 {
+    let r = Float::sqrt(u0);
+    let phi = 2.0 * PI * u1;
+    Point2 { x: r * math::cos(phi), y: r * math::sin(phi) }
+}
+
+/// Uniform disk by Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square" (PBRT-v4
+/// `SampleUniformDiskConcentric`): the square [-1,1]^2 is mapped wedge by wedge, r = max-norm.
+#[inline]
+pub fn sample_uniform_disk_concentric(u0: f32, u1: f32) -> Point2 {
+    let ox = 2.0 * u0 - 1.0;
+    let oy = 2.0 * u1 - 1.0;
+    if ox == 0.0 && oy == 0.0 {
+        return Point2 { x: 0.0, y: 0.0 };
+    }
+    let (r, theta) = if ox.abs() > oy.abs() {
+        (ox, FRAC_PI_4 * (oy / ox))
+    } else {
+        (oy, FRAC_PI_2 - FRAC_PI_4 * (ox / oy))
+    };
+    Point2 { x: r * math::cos(theta), y: r * math::sin(theta) }
+}
+
+/// Cosine-weighted hemisphere by Malley's method (PBRT-v4 `SampleCosineHemisphere`): a concentric
+/// disk point lifted to z = sqrt(max(0, 1 - x^2 - y^2)). Density [`cosine_hemisphere_pdf`].
+#[inline]
+pub fn sample_cosine_hemisphere(u0: f32, u1: f32) -> Vec3 {
+    let d = sample_uniform_disk_concentric(u0, u1);
+    let z2 = 1.0 - d.x * d.x - d.y * d.y;
+    let z = if z2 > 0.0 { Float::sqrt(z2) } else { 0.0 };
+    Vec3::new(d.x, d.y, z)
+}
+
+/// Solid-angle density of [`sample_cosine_hemisphere`]: cos(theta) / pi (PBRT-v4 eq. A.22).
+#[inline]
+pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
+    cos_theta * FRAC_1_PI
+}

@@ -1,0 +1,206 @@
+//! Screen-space reflection passes (see `shader_core::ssr`): one compute entry point per pass,
+//! each mapping an invocation to a pixel (or tile, or ray) and calling the per-invocation function
+//! the CPU backend calls too.
+//!
+//! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` = [invocations,
+//! groups in x, pass-specific...]; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
+//! `consts` is the [`shader_core::ssr::params`] buffer.
+
+use crate::WORKGROUP_SIZE;
+use shader_core::ssr::params::{mip_size, SsrParams};
+use shader_core::ssr::resolve::{self, COLOR_STRIDE, OUT_STRIDE};
+use shader_core::ssr::stochastic;
+use shader_core::ssr::trace::{self, RAY_STRIDE};
+use spirv_std::glam::UVec3;
+use spirv_std::spirv;
+
+/// The invocation index, or `None` past the end of the work.
+#[inline]
+fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
+    let i = id.x + id.y * args[1] * WORKGROUP_SIZE;
+    if i < args[0] {
+        Some(i)
+    } else {
+        None
+    }
+}
+
+/// Min-depth pyramid: writes mip `args[2]` (>= 1) of `pyr` from the mip below it.
+#[spirv(compute(threads(64)))]
+pub fn ssr_hiz_downsample(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    let level = args[2];
+    let w = mip_size(p.width, level);
+    let (x, y) = (i % w, i / w);
+    let v = trace::hiz_downsample_texel(&p, pyr, level, x, y);
+    pyr[(trace::p_mip_offset(&p, level) + i) as usize] = v;
+}
+
+/// Colour pyramid: writes mip `args[2]` (>= 1) of `pyr` (RGB) from the mip below it.
+#[spirv(compute(threads(64)))]
+pub fn ssr_color_downsample(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    let level = args[2];
+    let w = mip_size(p.width, level);
+    let (x, y) = (i % w, i / w);
+    let c = resolve::color_downsample_texel(&p, pyr, level, x, y);
+    let b = ((trace::p_mip_offset(&p, level) + i) as usize) * COLOR_STRIDE;
+    pyr[b] = c.x;
+    pyr[b + 1] = c.y;
+    pyr[b + 2] = c.z;
+}
+
+/// HDRP tracing: one mirror ray per pixel, Hi-Z / linear / brute force per `consts`.
+#[spirv(compute(threads(64)))]
+pub fn ssr_hdrp_trace(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    let (x, y) = (i % p.width, i / p.width);
+    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, rays, (i as usize) * RAY_STRIDE);
+}
+
+/// HDRP reprojection, `SSR_APPROX` (`args[2]` = 0) or the neighbourhood resolve (`args[2]` =
+/// 1 + shape: 3x3 block or 5-tap cross).
+#[spirv(compute(threads(64)))]
+pub fn ssr_hdrp_reproject(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    let (x, y) = (i % p.width, i / p.width);
+    let ob = (i as usize) * OUT_STRIDE;
+    if args[2] == 0 {
+        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, out, ob);
+    } else {
+        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, args[2] - 1, x, y, out, ob);
+    }
+}
+
+/// Stochastic SSR, tile classification: one invocation per 8x8 tile writes (class, rays,
+/// eligible pixels, 0) as u32 bits.
+#[spirv(compute(threads(64)))]
+pub fn sssr_classify(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] tiles: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
+    let (class, rays, eligible) = stochastic::classify_tile(&p, gbuf, i % tiles_x, i / tiles_x);
+    let b = (i as usize) * stochastic::TILE_STRIDE;
+    tiles[b] = f32::from_bits(class);
+    tiles[b + 1] = f32::from_bits(rays);
+    tiles[b + 2] = f32::from_bits(eligible);
+    tiles[b + 3] = f32::from_bits(0);
+}
+
+/// Stochastic SSR, compaction step 1: the exclusive prefix sum of the tiles' ray counts (a single
+/// invocation walks the tiles in order, so the list is the same on every backend). `args[2]` =
+/// tile count.
+#[spirv(compute(threads(64)))]
+pub fn sssr_prefix(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] tiles: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] offsets: &mut [f32],
+) {
+    let Some(_) = invocation(id, args) else { return };
+    stochastic::prefix_sum_tiles(tiles, args[2], offsets);
+}
+
+/// Stochastic SSR, compaction step 2: each tile writes its rays (pixel, sample | mode << 8) into
+/// the list from its offset.
+#[spirv(compute(threads(64)))]
+pub fn sssr_emit(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] offsets: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
+    stochastic::emit_tile_rays(&p, gbuf, offsets, i % tiles_x, i / tiles_x, list);
+}
+
+/// Stochastic SSR, tracing over the compacted list: entry k's record goes to its pixel's slot
+/// (pixel * samples + sample) of `rays` (zero-initialized: slots without a ray stay invalid).
+#[spirv(compute(threads(64)))]
+pub fn sssr_trace(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
+) {
+    let Some(k) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    let pixel = list[(k as usize) * stochastic::LIST_STRIDE].to_bits();
+    let smp = list[(k as usize) * stochastic::LIST_STRIDE + 1].to_bits() & 0xff;
+    let ob = ((pixel * p.samples_per_pixel + smp) as usize) * RAY_STRIDE;
+    stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, rays, ob);
+}
+
+/// Stochastic SSR, BRDF-weighted ratio-estimator resolve (one invocation per pixel).
+#[spirv(compute(threads(64)))]
+pub fn sssr_resolve(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
+}
+
+/// Stochastic SSR, temporal accumulation (one invocation per pixel; history stride 5).
+#[spirv(compute(threads(64)))]
+pub fn sssr_temporal(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] current: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] history: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    stochastic::temporal_pixel(&p, gbuf, current, history, i % p.width, i / p.width, out, (i as usize) * stochastic::HISTORY_STRIDE);
+}

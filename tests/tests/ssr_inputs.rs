@@ -1,0 +1,157 @@
+//! SSR stage 1 and 2: G-buffer I/O and validation, procedural scenes, the ray-traced reference.
+
+use host::ssr::{gbuffer::GBuffer, scene, Camera};
+use std::path::PathBuf;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("ssr_inputs_{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+fn small(name: &str) -> GBuffer {
+    scene(name).unwrap().render_gbuffer(64, 48, 0)
+}
+
+#[test]
+fn procedural_scenes_render_valid_gbuffers() {
+    for name in host::ssr::SCENES {
+        let g = scene(name).unwrap().render_gbuffer(64, 48, 3);
+        g.validate().unwrap_or_else(|e| panic!("{name}: {e:#}"));
+        let sky = g.depth.iter().filter(|z| z.is_infinite()).count();
+        let mirror = g.roughness.iter().zip(&g.depth).filter(|(r, z)| **r == 0.0 && z.is_finite()).count();
+        assert!(sky < g.depth.len(), "{name}: all sky");
+        assert!(mirror > 0 || name == "hallway", "{name}: no mirror pixels");
+    }
+    assert!(scene("nope").is_err());
+}
+
+#[test]
+fn gbuffer_roundtrips_through_exr_and_json() {
+    let g = small("floor");
+    let p = tmp("floor.exr");
+    g.save(&p).unwrap();
+    let r = GBuffer::load(&p).unwrap();
+    assert_eq!((r.width, r.height), (g.width, g.height));
+    for (a, b) in [(&g.depth, &r.depth), (&g.normal, &r.normal), (&g.color, &r.color), (&g.motion, &r.motion), (&g.roughness, &r.roughness)] {
+        assert_eq!(a.len(), b.len());
+        assert!(a.iter().zip(b.iter()).all(|(x, y)| x.to_bits() == y.to_bits()));
+    }
+    assert_eq!(r.camera, g.camera);
+}
+
+fn expect_err(g: &GBuffer, want: &str) {
+    let e = format!("{:#}", g.validate().expect_err(want));
+    assert!(e.contains(want), "error {e:?} should mention {want:?}");
+}
+
+#[test]
+fn bad_gbuffers_give_clear_errors() {
+    let g = small("floor");
+    // Mismatched sizes.
+    let mut b = g.clone();
+    b.roughness.pop();
+    expect_err(&b, "size mismatch");
+    // NaN depth.
+    let mut b = g.clone();
+    b.depth[5 * 64 + 7] = f32::NAN;
+    expect_err(&b, "depth is NaN at pixel (7, 5)");
+    // Non-invertible camera.
+    let mut b = g.clone();
+    b.camera.world_to_view[0..4].copy_from_slice(&[0.0; 4]);
+    expect_err(&b, "not invertible");
+    // Non-rigid camera.
+    let mut b = g.clone();
+    b.previous_camera.world_to_view[0] *= 2.0;
+    expect_err(&b, "not rigid");
+    // Bad field of view.
+    let mut b = g.clone();
+    b.camera.fov_y_degrees = 0.0;
+    expect_err(&b, "fov_y_degrees");
+    // Roughness out of range, non-finite motion.
+    let mut b = g.clone();
+    b.roughness[3] = 1.5;
+    expect_err(&b, "roughness must be in [0, 1]");
+    let mut b = g.clone();
+    b.motion[9] = f32::INFINITY;
+    expect_err(&b, "motion vector is not finite");
+}
+
+#[test]
+fn bad_gbuffer_files_give_clear_errors() {
+    let g = small("thin");
+    // Missing channel.
+    let p = tmp("missing.exr");
+    let n = g.width * g.height;
+    host::io::write_exr(&p, g.width, g.height, &[("depth", &g.depth), ("roughness", &g.roughness[..n])]).unwrap();
+    std::fs::write(
+        host::ssr::gbuffer::camera_path(&p),
+        serde_json_like(&g),
+    )
+    .unwrap();
+    let e = format!("{:#}", GBuffer::load(&p).unwrap_err());
+    assert!(e.contains("no channel \"normal.X\""), "{e}");
+    // Size mismatch between EXR and JSON.
+    let p = tmp("size.exr");
+    g.save(&p).unwrap();
+    let json = std::fs::read_to_string(host::ssr::gbuffer::camera_path(&p)).unwrap();
+    std::fs::write(host::ssr::gbuffer::camera_path(&p), json.replacen("\"width\": 64", "\"width\": 65", 1)).unwrap();
+    let e = format!("{:#}", GBuffer::load(&p).unwrap_err());
+    assert!(e.contains("size mismatch"), "{e}");
+    // Missing camera file.
+    let p = tmp("nocam.exr");
+    g.save(&p).unwrap();
+    std::fs::remove_file(host::ssr::gbuffer::camera_path(&p)).unwrap();
+    let e = format!("{:#}", GBuffer::load(&p).unwrap_err());
+    assert!(e.contains("camera file"), "{e}");
+    // NaN depth in a file.
+    let mut b = g.clone();
+    b.depth[0] = f32::NAN;
+    let p = tmp("nan.exr");
+    b.save(&p).unwrap();
+    let e = format!("{:#}", GBuffer::load(&p).unwrap_err());
+    assert!(e.contains("depth is NaN at pixel (0, 0)"), "{e}");
+}
+
+fn serde_json_like(g: &GBuffer) -> String {
+    let p = tmp("tmpcam.exr");
+    g.save(&p).unwrap();
+    std::fs::read_to_string(host::ssr::gbuffer::camera_path(&p)).unwrap()
+}
+
+#[test]
+fn camera_matrices_invert_and_project_consistently() {
+    let c = Camera::look_at([1.0, 2.0, -3.0], [0.0, 0.5, 4.0], [0.0, 1.0, 0.0], 55.0, 0.1);
+    c.validate("camera").unwrap();
+    let v = c.view();
+    let inv = c.inv_view().unwrap();
+    let id = v.mul_mat(&inv).to_rows();
+    for (i, x) in id.iter().enumerate() {
+        let want = if i % 5 == 0 { 1.0 } else { 0.0 };
+        assert!((x - want).abs() < 1e-5, "{id:?}");
+    }
+    let e = c.eye();
+    assert!((e[0] - 1.0).abs() < 1e-5 && (e[1] - 2.0).abs() < 1e-5 && (e[2] + 3.0).abs() < 1e-5);
+    // Primary ray through a pixel projects back onto that pixel.
+    let d = c.ray_dir(200, 100, 37.5, 81.5);
+    let p = host::ssr::camera::add(e, host::ssr::camera::scale(d, 7.0));
+    let (sx, sy) = c.view_to_screen(200, 100, c.to_view(p));
+    assert!((sx - 37.5).abs() < 1e-3 && (sy - 81.5).abs() < 1e-3, "{sx} {sy}");
+}
+
+#[test]
+fn reference_mirror_matches_onscreen_where_rays_stay_on_screen() {
+    let s = scene("floor").unwrap();
+    let g = s.render_gbuffer(64, 48, 0);
+    let r = host::ssr::render_reference(&s, &g, 0.6, 16);
+    let glossy = r.glossy.iter().filter(|&&b| b).count();
+    assert!(glossy > 500, "{glossy}");
+    let mut full = 0;
+    for i in 0..g.width * g.height {
+        if r.glossy[i] && r.onscreen_fraction[i] == 1.0 {
+            full += 1;
+            assert_eq!(&r.all[3 * i..3 * i + 3], &r.onscreen[3 * i..3 * i + 3]);
+        }
+    }
+    assert!(full > 100, "{full}");
+}
