@@ -371,6 +371,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
         },
     };
     let cpu = Backend::Cpu;
+    let load_start = load_average();
     eprintln!("{}", cpu.describe());
     match &gpu {
         Some(g) => eprintln!("{}", g.describe()),
@@ -437,7 +438,8 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
         out.push(m);
     }
     pb.finish_and_clear();
-    let md = markdown(a, &out, &grids.iter().map(|(g, p)| (*g, p.len())).collect::<Vec<_>>(), &cpu, gpu.as_ref());
+    let load = format!("{load_start} at the start, {} at the end", load_average());
+    let md = markdown(a, &out, &grids.iter().map(|(g, p)| (*g, p.len())).collect::<Vec<_>>(), &cpu, gpu.as_ref(), &load);
     crate::io::create_parent_dir(&a.output)?;
     std::fs::write(&a.output, md).with_context(|| format!("writing {}", a.output.display()))?;
     eprintln!("wrote {}", a.output.display());
@@ -446,6 +448,11 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
         eprintln!("wrote {}", a.plot.display());
     }
     Ok(())
+}
+
+/// The 1-minute load average (other processes competing for the cores skew the timings).
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg").ok().and_then(|s| s.split_whitespace().next().map(str::to_string)).unwrap_or_else(|| "?".into())
 }
 
 fn cpu_model() -> String {
@@ -462,7 +469,7 @@ fn fmt_rate(r: Option<f64>) -> String {
     }
 }
 
-fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu: &Backend, gpu: Option<&Backend>) -> String {
+fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu: &Backend, gpu: Option<&Backend>, load: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Microfacet approximations: cost and accuracy\n");
     let _ = writeln!(
@@ -474,7 +481,7 @@ fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu
         a.repeats,
         a.grid
     );
-    let _ = writeln!(s, "- CPU backend: {} on {}", cpu.describe(), cpu_model());
+    let _ = writeln!(s, "- CPU backend: {} on {} ({} logical CPUs; 1-minute load average {load})", cpu.describe(), cpu_model(), std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0));
     match gpu {
         Some(g) => {
             let _ = writeln!(s, "- GPU backend: {}", g.describe());

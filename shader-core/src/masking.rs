@@ -6,7 +6,10 @@
 //!   after an exact power-of-two rescaling ([`Vec3::pow2_rescaled`]), so any finite non-zero
 //!   vector works.
 //! * A direction with `w.z == 0` is exactly grazing: Lambda = +Inf, G1 = 0, for every alpha >= 0
-//!   (alpha = 0 included). The zero vector, and a NaN or infinite component, give NaN.
+//!   (alpha = 0 included); so is one whose |z| is below 2^-149 of its largest component (z vanishes
+//!   in the rescaling; the exact Lambda there exceeds 1e36 alpha). Lambda is otherwise +Inf only
+//!   where the exact value exceeds f32::MAX. The zero vector, and a NaN or infinite component,
+//!   give NaN.
 //! * Lambda and G1 use |w.z| (the microsurface is seen from either side the same way; back-facing
 //!   rejection belongs to the caller that knows the geometry). The G2 forms take (wo, wi) and
 //!   likewise use |z| of each; they omit the chi+(wm) factors (as PBRT's `G(wo, wi)`).
@@ -14,8 +17,9 @@
 //!   infinite alpha gives NaN; alpha = 0 is a smooth surface (Lambda = 0, G1 = 1 off grazing).
 //! * Visibility terms take cosines: |cos| is used and clamped to 1 (as engines `saturate(abs())`);
 //!   NaN propagates. Their roughness domain is alpha in [0, 1], the engines' (alpha > 1 gives NaN:
-//!   the engines' rearranged arithmetic cancels there). V is +Inf only where the exact value is infinite (both cosines 0, or alpha = 0
-//!   with a cosine 0, for the forms whose limit is 1 / (4 n.l n.v)).
+//!   the engines' rearranged arithmetic cancels there). V is +Inf only where the exact value is
+//!   infinite (both cosines 0, or alpha = 0 with a cosine 0, for the forms whose limit is
+//!   1 / (4 n.l n.v); v.h = 0 for Kelemen).
 
 use crate::math;
 use crate::ndf::alpha_valid;

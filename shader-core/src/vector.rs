@@ -98,12 +98,12 @@ impl Vec3 {
         if m < 1.0e-20 {
             let s = f32::from_bits(0x5f80_0000); // 2^64
             v = v * s;
-            m = m * s;
+            m *= s;
         }
         if m > 1.0e20 {
             let s = f32::from_bits(0x1f80_0000); // 2^-64
             v = v * s;
-            m = m * s;
+            m *= s;
         }
         // m is now a normal number with biased exponent e in [42, 194]; 2^(127 - e) is normal.
         let e = (m.to_bits() >> 23) & 0xff;

@@ -331,12 +331,21 @@ pub fn sample_vndf_caps(wi: Vec3, alpha_x: f32, alpha_y: f32, u1: f32, u2: f32) 
 /// configuration is z in (-k wi_std.z, 1] for wi.z > 0.
 #[inline]
 pub fn bounded_vndf_k(wi: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
+    bounded_vndf_k_pair(wi, alpha_x, alpha_y).0
+}
+
+/// (k, 1 - k) of [`bounded_vndf_k`], with 1 - k = a^2 (s^2 + wi.z^2) / (s^2 + a^2 wi.z^2) computed
+/// without the cancellation of 1 - k for small alpha (k = 1 - 1e-6 at alpha = 1e-3).
+#[inline]
+pub fn bounded_vndf_k_pair(wi: Vec3, alpha_x: f32, alpha_y: f32) -> (f32, f32) {
     let a = if alpha_x < alpha_y { alpha_x } else { alpha_y };
     let a = if a > 1.0 { 1.0 } else if a < 0.0 { 0.0 } else { a };
     let s = 1.0 + Float::sqrt(wi.x * wi.x + wi.y * wi.y);
     let a2 = a * a;
     let s2 = s * s;
-    (1.0 - a2) * s2 / (s2 + a2 * wi.z * wi.z)
+    let z2 = wi.z * wi.z;
+    let den = s2 + a2 * z2;
+    ((1.0 - a2) * s2 / den, a2 * (s2 + z2) / den)
 }
 
 /// Eto & Tokuyoshi 2023 bounded VNDF sampling (listing 1, `SampleGGXReflection`): the spherical
@@ -393,8 +402,8 @@ pub fn pdf_vndf_bounded(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     if wi.z < 0.0 {
         return vndf_reflection_pdf(d, wi, len2);
     }
-    let k = bounded_vndf_k(wi, alpha_x, alpha_y);
-    if wo.z < 0.0 && !bounded_cap_contains(wi, h, alpha_x, alpha_y, k) {
+    let (k, one_minus_k) = bounded_vndf_k_pair(wi, alpha_x, alpha_y);
+    if wo.z < 0.0 && !bounded_cap_contains(wi, h, alpha_x, alpha_y, one_minus_k) {
         return 0.0;
     }
     let t = Float::sqrt(len2 + wi.z * wi.z);
@@ -403,11 +412,12 @@ pub fn pdf_vndf_bounded(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 
 /// Whether the stretched reflection of wi off the half vector h = wi + wo lies in the bounded cap
 /// z > -k wi_std.z (Eto & Tokuyoshi 2023 eq. 8's chi+): 2 (wi.h) h.z > (1 - k) wi.z |h_std|^2 with
-/// h_std = (h.x / alpha_x, h.y / alpha_y, h.z). alpha > 0 and h.z > 0 are the caller's.
+/// h_std = (h.x / alpha_x, h.y / alpha_y, h.z); `one_minus_k` from [`bounded_vndf_k_pair`].
+/// alpha > 0 and h.z > 0 are the caller's.
 #[inline]
-pub fn bounded_cap_contains(wi: Vec3, h: Vec3, alpha_x: f32, alpha_y: f32, k: f32) -> bool {
+pub fn bounded_cap_contains(wi: Vec3, h: Vec3, alpha_x: f32, alpha_y: f32, one_minus_k: f32) -> bool {
     let sx = h.x / alpha_x;
     let sy = h.y / alpha_y;
     let hs2 = sx * sx + sy * sy + h.z * h.z;
-    2.0 * wi.dot(h) * h.z > (1.0 - k) * wi.z * hs2
+    2.0 * wi.dot(h) * h.z > one_minus_k * wi.z * hs2
 }

@@ -105,7 +105,16 @@ fn specials() -> Vec<f32> {
         core::f32::consts::FRAC_PI_2,
         core::f32::consts::FRAC_PI_4,
     ];
-    let more: Vec<f32> = v.iter().flat_map(|&x| [f32::from_bits(x.to_bits().wrapping_add(1)), f32::from_bits(x.to_bits().wrapping_sub(1))]).filter(|x| !x.is_nan()).collect();
+    let more: Vec<f32> = v
+        .iter()
+        .flat_map(|&x| {
+            [
+                f32::from_bits(x.to_bits().wrapping_add(1)),
+                f32::from_bits(x.to_bits().wrapping_sub(1)),
+            ]
+        })
+        .filter(|x| !x.is_nan())
+        .collect();
     v.extend(more);
     v
 }
@@ -137,7 +146,11 @@ fn frac_ulps(got: f32, exact: f64) -> f64 {
     if !got.is_finite() || !r.is_finite() || exact.is_nan() {
         return 0.0;
     }
-    let e = if r == 0.0 { -149 } else { (((r.abs().to_bits() >> 23) as i32) - 150).max(-149) };
+    let e = if r == 0.0 {
+        -149
+    } else {
+        (((r.abs().to_bits() >> 23) as i32) - 150).max(-149)
+    };
     (f64::from(got) - exact).abs() / 2f64.powi(e)
 }
 
@@ -163,10 +176,22 @@ fn sweep1(
         sum += d as f64;
         if d > max || worst.is_empty() {
             max = d.max(max);
-            worst = format!("x={x:e} ({:#010x}): got {got:e}, want {want:e}", x.to_bits());
+            worst = format!(
+                "x={x:e} ({:#010x}): got {got:e}, want {want:e}",
+                x.to_bits()
+            );
         }
     }
-    Row { name, domain, samples: inputs.len() as u64, max_ulp: max, mean_ulp: sum / inputs.len() as f64, max_err, worst, bound }
+    Row {
+        name,
+        domain,
+        samples: inputs.len() as u64,
+        max_ulp: max,
+        mean_ulp: sum / inputs.len() as f64,
+        max_err,
+        worst,
+        bound,
+    }
 }
 
 /// Sweep a binary function over pairs.
@@ -194,11 +219,30 @@ fn sweep2(
             worst = format!("({a:e}, {b:e}): got {got:e}, want {want:e}");
         }
     }
-    Row { name, domain, samples: inputs.len() as u64, max_ulp: max, mean_ulp: sum / inputs.len() as f64, max_err, worst, bound }
+    Row {
+        name,
+        domain,
+        samples: inputs.len() as u64,
+        max_ulp: max,
+        mean_ulp: sum / inputs.len() as f64,
+        max_err,
+        worst,
+        bound,
+    }
 }
 
 /// n uniform samples in [a, b], n log-uniform magnitudes in [lo, hi] (signed or not), plus `extra`.
-fn mix(seed: u64, n_uniform: usize, a: f64, b: f64, n_log: usize, lo: f64, hi: f64, signed: bool) -> Vec<f32> {
+#[allow(clippy::too_many_arguments)]
+fn mix(
+    seed: u64,
+    n_uniform: usize,
+    a: f64,
+    b: f64,
+    n_log: usize,
+    lo: f64,
+    hi: f64,
+    signed: bool,
+) -> Vec<f32> {
     let mut r = Rng(seed);
     let mut v = Vec::with_capacity(n_uniform + n_log + 64);
     for i in 0..n_uniform {
@@ -237,7 +281,9 @@ fn near_multiples_of_pio2() -> Vec<f32> {
 /// nearest to multiples of pi/2 found by continued steps of the exponent.
 fn large_args() -> Vec<f32> {
     let mut r = Rng(77);
-    let mut v: Vec<f32> = (0..1_000_000).map(|_| r.log_uniform(1.03e5, 3.4e38, true)).collect();
+    let mut v: Vec<f32> = (0..1_000_000)
+        .map(|_| r.log_uniform(1.03e5, 3.4e38, true))
+        .collect();
     v.push(f32::MAX);
     v.push(f32::MIN);
     v.push(102_901.0);
@@ -251,7 +297,11 @@ fn rows() -> Vec<Row> {
         let mut v = mix(1, 1_000_000, -7.0, 7.0, 500_000, 1e-40, 1.03e5, true);
         v.extend(mix(2, 1_000_000, -102_900.0, 102_900.0, 0, 1.0, 1.0, false));
         v.extend(near_multiples_of_pio2());
-        v.extend(specials().into_iter().filter(|x| !(x.abs() > math::TRIG_CODY_WAITE_MAX)));
+        v.extend(
+            specials()
+                .into_iter()
+                .filter(|x| x.is_nan() || x.abs() <= math::TRIG_CODY_WAITE_MAX),
+        );
         v
     };
     let atan_in = || {
@@ -291,7 +341,7 @@ fn rows() -> Vec<Row> {
     let log_in = || {
         let mut v = mix(9, 1_000_000, 0.5, 2.0, 1_000_000, 1e-45, 3.4e38, false);
         v.extend(specials());
-        v.extend((-149..=127).map(|i| pow2(i)));
+        v.extend((-149..=127).map(pow2));
         v
     };
     let log1p_in = || {
@@ -323,7 +373,10 @@ fn rows() -> Vec<Row> {
             v.push(((rad * t.sin()) as f32, (rad * t.cos()) as f32));
         }
         for _ in 0..1_000_000 {
-            v.push((r.log_uniform(1e-45, 3.4e38, true), r.log_uniform(1e-45, 3.4e38, true)));
+            v.push((
+                r.log_uniform(1e-45, 3.4e38, true),
+                r.log_uniform(1e-45, 3.4e38, true),
+            ));
         }
         let s = specials();
         for &a in &s {
@@ -338,10 +391,18 @@ fn rows() -> Vec<Row> {
         let mut r = Rng(15);
         let mut v = Vec::with_capacity(2_000_000);
         for i in 0..2_000_000 {
-            let x = if i % 2 == 0 { r.log_uniform(1e-45, 3.4e38, false) } else { r.uniform(0.5, 2.0) };
+            let x = if i % 2 == 0 {
+                r.log_uniform(1e-45, 3.4e38, false)
+            } else {
+                r.uniform(0.5, 2.0)
+            };
             let t = r.unit() * 280.0 - 152.0;
             let l = f64::from(x).log2();
-            let y = if l == 0.0 { r.uniform(-1e6, 1e6) } else { (t / l) as f32 };
+            let y = if l == 0.0 {
+                r.uniform(-1e6, 1e6)
+            } else {
+                (t / l) as f32
+            };
             v.push((x, y));
         }
         for _ in 0..200_000 {
@@ -378,42 +439,196 @@ fn rows() -> Vec<Row> {
                 let main = trig_main();
                 let large = large_args();
                 vec![
-                    sweep1("sin", "|x| <= 102900", Bound(1, 0.8, 0.014), &main, math::sin, f64::sin),
-                    sweep1("sin", "102900 < |x| <= MAX", Bound(1, 0.8, 0.023), &large, math::sin, f64::sin),
-                    sweep1("cos", "|x| <= 102900", Bound(1, 0.82, 0.014), &main, math::cos, f64::cos),
-                    sweep1("cos", "102900 < |x| <= MAX", Bound(1, 0.82, 0.023), &large, math::cos, f64::cos),
-                    sweep1("tan", "|x| <= 102900", Bound(1, 0.93, 0.021), &main, math::tan, f64::tan),
-                    sweep1("tan", "102900 < |x| <= MAX", Bound(1, 0.92, 0.035), &large, math::tan, f64::tan),
+                    sweep1(
+                        "sin",
+                        "abs(x) <= 102900",
+                        Bound(1, 0.8, 0.014),
+                        &main,
+                        math::sin,
+                        f64::sin,
+                    ),
+                    sweep1(
+                        "sin",
+                        "102900 < abs(x) <= f32::MAX",
+                        Bound(1, 0.8, 0.023),
+                        &large,
+                        math::sin,
+                        f64::sin,
+                    ),
+                    sweep1(
+                        "cos",
+                        "abs(x) <= 102900",
+                        Bound(1, 0.82, 0.014),
+                        &main,
+                        math::cos,
+                        f64::cos,
+                    ),
+                    sweep1(
+                        "cos",
+                        "102900 < abs(x) <= f32::MAX",
+                        Bound(1, 0.82, 0.023),
+                        &large,
+                        math::cos,
+                        f64::cos,
+                    ),
+                    sweep1(
+                        "tan",
+                        "abs(x) <= 102900",
+                        Bound(1, 0.93, 0.021),
+                        &main,
+                        math::tan,
+                        f64::tan,
+                    ),
+                    sweep1(
+                        "tan",
+                        "102900 < abs(x) <= f32::MAX",
+                        Bound(1, 0.92, 0.035),
+                        &large,
+                        math::tan,
+                        f64::tan,
+                    ),
                 ]
             }),
             sc.spawn(move || {
                 let a = atan_in();
                 let b = asin_in();
                 vec![
-                    sweep1("atan", "all f32", Bound(1, 1.19, 0.031), &a, math::atan, f64::atan),
-                    sweep1("asin", "[-1, 1]", Bound(1, 0.7, 0.011), &b, math::asin, f64::asin),
-                    sweep1("acos", "[-1, 1]", Bound(1, 0.68, 0.0055), &b, math::acos, f64::acos),
-                    sweep2("atan2", "all f32 pairs", Bound(1, 1.17, 0.024), &atan2_in(), math::atan2, f64::atan2),
+                    sweep1(
+                        "atan",
+                        "all f32",
+                        Bound(1, 1.19, 0.031),
+                        &a,
+                        math::atan,
+                        f64::atan,
+                    ),
+                    sweep1(
+                        "asin",
+                        "[-1, 1]",
+                        Bound(1, 0.7, 0.011),
+                        &b,
+                        math::asin,
+                        f64::asin,
+                    ),
+                    sweep1(
+                        "acos",
+                        "[-1, 1]",
+                        Bound(1, 0.68, 0.0055),
+                        &b,
+                        math::acos,
+                        f64::acos,
+                    ),
+                    sweep2(
+                        "atan2",
+                        "all f32 pairs",
+                        Bound(1, 1.17, 0.024),
+                        &atan2_in(),
+                        math::atan2,
+                        f64::atan2,
+                    ),
                 ]
             }),
             sc.spawn(move || {
                 vec![
-                    sweep1("exp", "[-104, 89] (all f32)", Bound(1, 0.68, 0.013), &exp_in(), math::exp, f64::exp),
-                    sweep1("exp2", "[-151, 128] (all f32)", Bound(1, 0.69, 0.013), &exp2_in(), math::exp2, f64::exp2),
-                    sweep1("expm1", "[-18, 89] (all f32)", Bound(1, 1.18, 0.014), &expm1_in(), math::expm1, f64::exp_m1),
-                    sweep1("log", "all f32", Bound(1, 0.94, 0.032), &log_in(), math::log, f64::ln),
-                    sweep1("log2", "all f32", Bound(1, 1.0, 0.021), &log_in(), math::log2, f64::log2),
-                    sweep1("log1p", "all f32", Bound(1, 0.96, 0.021), &log1p_in(), math::log1p, f64::ln_1p),
+                    sweep1(
+                        "exp",
+                        "[-104, 89] (all f32)",
+                        Bound(1, 0.68, 0.013),
+                        &exp_in(),
+                        math::exp,
+                        f64::exp,
+                    ),
+                    sweep1(
+                        "exp2",
+                        "[-151, 128] (all f32)",
+                        Bound(1, 0.69, 0.013),
+                        &exp2_in(),
+                        math::exp2,
+                        f64::exp2,
+                    ),
+                    sweep1(
+                        "expm1",
+                        "[-18, 89] (all f32)",
+                        Bound(1, 1.18, 0.014),
+                        &expm1_in(),
+                        math::expm1,
+                        f64::exp_m1,
+                    ),
+                    sweep1(
+                        "log",
+                        "all f32",
+                        Bound(1, 0.94, 0.032),
+                        &log_in(),
+                        math::log,
+                        f64::ln,
+                    ),
+                    sweep1(
+                        "log2",
+                        "all f32",
+                        Bound(1, 1.0, 0.021),
+                        &log_in(),
+                        math::log2,
+                        f64::log2,
+                    ),
+                    sweep1(
+                        "log1p",
+                        "all f32",
+                        Bound(1, 0.96, 0.021),
+                        &log1p_in(),
+                        math::log1p,
+                        f64::ln_1p,
+                    ),
                 ]
             }),
             sc.spawn(move || {
                 vec![
-                    sweep2("pow", "x > 0, |y log2 x| <= 152; x < 0, integer y", Bound(1, 0.69, 0.019), &pow_main(), math::pow, f64::powf),
-                    sweep2("pow", "special values x all pairs", Bound(1, 0.63, 0.004), &pow_special(), math::pow, f64::powf),
-                    sweep1("erf", "all f32", Bound(1, 0.86, 0.045), &erf_in(), math::erf, erf64),
-                    sweep1("erfc", "all f32", Bound(1, 0.97, 0.088), &erfc_in(), math::erfc, erfc64),
-                    sweep1("sqrt", "all f32", Bound(0, 0.5, 0.0), &log_in(), math::sqrt, f64::sqrt),
-                    sweep1("rsqrt", "all f32", Bound(1, 1.55, 0.29), &log_in(), math::rsqrt, |x| 1.0 / x.sqrt()),
+                    sweep2(
+                        "pow",
+                        "x > 0 with abs(y log2 x) <= 152; x < 0 with integer y",
+                        Bound(1, 0.69, 0.019),
+                        &pow_main(),
+                        math::pow,
+                        f64::powf,
+                    ),
+                    sweep2(
+                        "pow",
+                        "special values x all pairs",
+                        Bound(1, 0.63, 0.004),
+                        &pow_special(),
+                        math::pow,
+                        f64::powf,
+                    ),
+                    sweep1(
+                        "erf",
+                        "all f32",
+                        Bound(1, 0.86, 0.045),
+                        &erf_in(),
+                        math::erf,
+                        erf64,
+                    ),
+                    sweep1(
+                        "erfc",
+                        "all f32",
+                        Bound(1, 0.97, 0.088),
+                        &erfc_in(),
+                        math::erfc,
+                        erfc64,
+                    ),
+                    sweep1(
+                        "sqrt",
+                        "all f32",
+                        Bound(0, 0.5, 0.0),
+                        &log_in(),
+                        math::sqrt,
+                        f64::sqrt,
+                    ),
+                    sweep1(
+                        "rsqrt",
+                        "all f32",
+                        Bound(1, 1.55, 0.29),
+                        &log_in(),
+                        math::rsqrt,
+                        |x| 1.0 / x.sqrt(),
+                    ),
                 ]
             }),
         ];
@@ -429,7 +644,12 @@ fn accuracy_table() {
     writeln!(out, "| --- | --- | ---: | ---: | ---: | ---: | ---: |").unwrap();
     for r in &rows {
         let Bound(u, e, m) = r.bound;
-        writeln!(out, "| {} | {} | {} | {} | {:.4} | {:.3} | {u} / {e} / {m} |", r.name, r.domain, r.samples, r.max_ulp, r.mean_ulp, r.max_err).unwrap();
+        writeln!(
+            out,
+            "| {} | {} | {} | {} | {:.4} | {:.3} | {u} / {e} / {m} |",
+            r.name, r.domain, r.samples, r.max_ulp, r.mean_ulp, r.max_err
+        )
+        .unwrap();
     }
     writeln!(out, "\nworst cases:").unwrap();
     for r in &rows {
@@ -465,7 +685,12 @@ fn same(a: f32, b: f32) -> bool {
 
 #[track_caller]
 fn check(got: f32, want: f32, what: &str) {
-    assert!(same(got, want), "{what}: got {got:e} ({:#010x}), want {want:e} ({:#010x})", got.to_bits(), want.to_bits());
+    assert!(
+        same(got, want),
+        "{what}: got {got:e} ({:#010x}), want {want:e} ({:#010x})",
+        got.to_bits(),
+        want.to_bits()
+    );
 }
 
 #[test]
@@ -473,7 +698,15 @@ fn special_values_of_unary_functions_are_exact() {
     use core::f32::consts::{FRAC_PI_2, PI};
     let (inf, nan) = (f32::INFINITY, f32::NAN);
     let tiny = f32::from_bits(1);
-    for (f, name) in [(math::sin as fn(f32) -> f32, "sin"), (math::tan, "tan"), (math::atan, "atan"), (math::asin, "asin"), (math::erf, "erf"), (math::expm1, "expm1"), (math::log1p, "log1p")] {
+    for (f, name) in [
+        (math::sin as fn(f32) -> f32, "sin"),
+        (math::tan, "tan"),
+        (math::atan, "atan"),
+        (math::asin, "asin"),
+        (math::erf, "erf"),
+        (math::expm1, "expm1"),
+        (math::log1p, "log1p"),
+    ] {
         check(f(0.0), 0.0, name);
         check(f(-0.0), -0.0, name);
         check(f(nan), nan, name);
@@ -505,7 +738,11 @@ fn special_values_of_unary_functions_are_exact() {
     check(math::exp(inf), inf, "exp inf");
     check(math::exp(-inf), 0.0, "exp -inf");
     check(math::exp(88.722_84), inf, "exp overflow");
-    check(math::exp(88.722_83), f64::from(88.722_83f32).exp() as f32, "exp just below overflow");
+    check(
+        math::exp(88.722_83),
+        f64::from(88.722_83f32).exp() as f32,
+        "exp just below overflow",
+    );
     assert!(math::exp(88.722_83).is_finite());
     check(math::exp(-104.0), 0.0, "exp underflow");
     check(math::exp(-103.972), tiny, "exp smallest denormal");
@@ -557,32 +794,62 @@ fn special_values_of_atan2_and_pow_match_c99_bit_for_bit() {
     let mut s = specials();
     s.extend([3.0f32, -3.0, 0.25, -0.25, 1e-30, -1e-30]);
     let mut ys = s.clone();
-    ys.extend([-3.0f32, -2.0, -1.0, 0.5, -0.5, 1.0, 2.0, 3.0, 1e10, -1e10, pow2(24) + 2.0, pow2(23) + 1.0, -(pow2(23) + 1.0)]);
+    ys.extend([
+        -3.0f32,
+        -2.0,
+        -1.0,
+        0.5,
+        -0.5,
+        1.0,
+        2.0,
+        3.0,
+        1e10,
+        -1e10,
+        pow2(24) + 2.0,
+        pow2(23) + 1.0,
+        -(pow2(23) + 1.0),
+    ]);
     for &y in &s {
         for &x in &s {
             if x.is_finite() && y.is_finite() && x != 0.0 && y != 0.0 {
                 continue; // ordinary values: covered by the ULP sweep
             }
-            check(math::atan2(y, x), f64::from(y).atan2(f64::from(x)) as f32, &format!("atan2({y:e}, {x:e})"));
+            check(
+                math::atan2(y, x),
+                f64::from(y).atan2(f64::from(x)) as f32,
+                &format!("atan2({y:e}, {x:e})"),
+            );
         }
     }
     for &x in &s {
         for &y in &ys {
             let want = f64::from(x).powf(f64::from(y)) as f32;
             let got = math::pow(x, y);
-            let special = !x.is_finite() || !y.is_finite() || x == 0.0 || y == 0.0 || x == 1.0 || !want.is_normal();
+            let special = !x.is_finite()
+                || !y.is_finite()
+                || x == 0.0
+                || y == 0.0
+                || x == 1.0
+                || !want.is_normal();
             if special {
                 check(got, want, &format!("pow({x:e}, {y:e})"));
             } else {
                 // ordinary value (negative bases included): sign exact, magnitude within 1 ULP
-                assert!(got.is_sign_negative() == want.is_sign_negative() && ulps(got, want) <= 1, "pow({x:e}, {y:e}): got {got:e}, want {want:e}");
+                assert!(
+                    got.is_sign_negative() == want.is_sign_negative() && ulps(got, want) <= 1,
+                    "pow({x:e}, {y:e}): got {got:e}, want {want:e}"
+                );
             }
         }
     }
     check(math::pow(-2.0, 3.0), -8.0, "pow(-2, 3)");
     check(math::pow(-2.0, -3.0), -0.125, "pow(-2, -3)");
     check(math::pow(-2.0, 0.5), f32::NAN, "pow(-2, 0.5)");
-    check(math::pow(2.0, 0.5), core::f32::consts::SQRT_2, "pow(2, 0.5)");
+    check(
+        math::pow(2.0, 0.5),
+        core::f32::consts::SQRT_2,
+        "pow(2, 0.5)",
+    );
     check(math::pow(f32::NAN, 0.0), 1.0, "pow(nan, 0)");
     check(math::pow(1.0, f32::NAN), 1.0, "pow(1, nan)");
     check(math::pow(-1.0, f32::INFINITY), 1.0, "pow(-1, inf)");
@@ -602,7 +869,18 @@ fn rounding_helpers_match_std_bit_for_bit() {
     for i in -40..=40 {
         v.push(i as f32 * 0.25);
     }
-    v.extend([0.49999997f32, -0.49999997, 8_388_607.5, -8_388_607.5, 8_388_609.0, 2_147_483_520.0, -2_147_483_648.0, 2_147_483_648.0, 1e20, -1e20]);
+    v.extend([
+        0.49999997f32,
+        -0.49999997,
+        8_388_607.5,
+        -8_388_607.5,
+        8_388_609.0,
+        2_147_483_520.0,
+        -2_147_483_648.0,
+        2_147_483_648.0,
+        1e20,
+        -1e20,
+    ]);
     for _ in 0..200_000 {
         v.push(r.log_uniform(1e-3, 1e8, true));
     }
@@ -612,8 +890,16 @@ fn rounding_helpers_match_std_bit_for_bit() {
         check(math::trunc(x), x.trunc(), &format!("trunc {x:e}"));
         check(math::round(x), x.round(), &format!("round {x:e}"));
         check(math::abs(x), x.abs(), &format!("abs {x:e}"));
-        check(math::copysign(1.5, x), 1.5f32.copysign(x), &format!("copysign {x:e}"));
-        assert_eq!(math::round_to_int(x), x.round() as i32, "round_to_int {x:e}"); // `as` saturates, NaN -> 0
+        check(
+            math::copysign(1.5, x),
+            1.5f32.copysign(x),
+            &format!("copysign {x:e}"),
+        );
+        assert_eq!(
+            math::round_to_int(x),
+            x.round() as i32,
+            "round_to_int {x:e}"
+        ); // `as` saturates, NaN -> 0
         assert_eq!(math::is_nan(x), x.is_nan());
         assert_eq!(math::is_finite(x), x.is_finite());
     }
@@ -633,7 +919,11 @@ fn min_max_clamp_semantics() {
     check(math::max(-0.0, 0.0), 0.0, "max(-0, 0)");
     check(math::min(-3.0, 2.0), -3.0, "min");
     check(math::max(-3.0, 2.0), 2.0, "max");
-    check(math::min(f32::NEG_INFINITY, 2.0), f32::NEG_INFINITY, "min -inf");
+    check(
+        math::min(f32::NEG_INFINITY, 2.0),
+        f32::NEG_INFINITY,
+        "min -inf",
+    );
     check(math::clamp(nan, 0.0, 1.0), nan, "clamp nan");
     check(math::clamp(-2.0, -1.0, 1.0), -1.0, "clamp low");
     check(math::clamp(2.0, -1.0, 1.0), 1.0, "clamp high");
@@ -663,7 +953,10 @@ fn sin_cos_is_bit_identical_to_sin_and_cos() {
 #[test]
 #[ignore]
 fn all_bit_patterns_strided() {
-    let stride: u64 = std::env::var("MATH_STRIDE").ok().and_then(|s| s.parse().ok()).unwrap_or(127);
+    let stride: u64 = std::env::var("MATH_STRIDE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(127);
     type F = (&'static str, fn(f32) -> f32, fn(f64) -> f64, Bound);
     let fns: Vec<F> = vec![
         ("sin", math::sin, f64::sin, Bound(1, 0.80, 1.0)),
@@ -689,22 +982,110 @@ fn all_bit_patterns_strided() {
                     chunk
                         .iter()
                         .map(|&(name, f, reference, bound)| {
-                            let inputs: Vec<f32> = (0..(1u64 << 32)).step_by(stride as usize).map(|b| f32::from_bits(b as u32)).collect();
-                            sweep1(name, "every stride-th bit pattern", bound, &inputs, f, reference)
+                            let inputs: Vec<f32> = (0..(1u64 << 32))
+                                .step_by(stride as usize)
+                                .map(|b| f32::from_bits(b as u32))
+                                .collect();
+                            sweep1(
+                                name,
+                                "every stride-th bit pattern",
+                                bound,
+                                &inputs,
+                                f,
+                                reference,
+                            )
                         })
                         .collect::<Vec<Row>>()
                 })
             })
             .collect();
-        handles.into_iter().flat_map(|h| h.join().unwrap()).collect()
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap())
+            .collect()
     });
     println!("\nstride {stride}:\n| function | samples | max ULP | mean ULP | max err vs f64 (ULP) |\n| --- | ---: | ---: | ---: | ---: |");
     for r in &rows {
-        println!("| {} | {} | {} | {:.4} | {:.3} |", r.name, r.samples, r.max_ulp, r.mean_ulp, r.max_err);
+        println!(
+            "| {} | {} | {} | {:.4} | {:.3} |",
+            r.name, r.samples, r.max_ulp, r.mean_ulp, r.max_err
+        );
     }
     for r in &rows {
         println!("  {:6} {}", r.name, r.worst);
     }
-    let failed: Vec<String> = rows.iter().filter(|r| r.max_ulp > r.bound.0 || r.max_err > r.bound.1).map(|r| format!("{}: {} ULP, err {:.3}; {}", r.name, r.max_ulp, r.max_err, r.worst)).collect();
+    let failed: Vec<String> = rows
+        .iter()
+        .filter(|r| r.max_ulp > r.bound.0 || r.max_err > r.bound.1)
+        .map(|r| {
+            format!(
+                "{}: {} ULP, err {:.3}; {}",
+                r.name, r.max_ulp, r.max_err, r.worst
+            )
+        })
+        .collect();
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+/// Every f32 in [2^-12, 102900] (the whole Cody-Waite range; negative arguments are exact
+/// mirrors) through sin, cos and tan: 2.4e8 inputs each, about a minute on two cores.
+/// `cargo test -p shader-core --release --test math_accuracy trig_exhaustive -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn trig_exhaustive_cody_waite_range() {
+    let lo = 2f32.powi(-12).to_bits();
+    let hi = math::TRIG_CODY_WAITE_MAX.to_bits();
+    let inputs: Vec<f32> = (lo..=hi).map(f32::from_bits).collect();
+    let rows: Vec<Row> = std::thread::scope(|sc| {
+        let a = sc.spawn(|| {
+            vec![
+                sweep1(
+                    "sin",
+                    "every f32 in [2^-12, 102900]",
+                    Bound(1, 0.80, 1.0),
+                    &inputs,
+                    math::sin,
+                    f64::sin,
+                ),
+                sweep1(
+                    "cos",
+                    "every f32 in [2^-12, 102900]",
+                    Bound(1, 0.82, 1.0),
+                    &inputs,
+                    math::cos,
+                    f64::cos,
+                ),
+            ]
+        });
+        let b = sc.spawn(|| {
+            vec![sweep1(
+                "tan",
+                "every f32 in [2^-12, 102900]",
+                Bound(1, 0.93, 1.0),
+                &inputs,
+                math::tan,
+                f64::tan,
+            )]
+        });
+        let mut v = a.join().unwrap();
+        v.extend(b.join().unwrap());
+        v
+    });
+    for r in &rows {
+        println!(
+            "| {} | {} | {} | {} | {:.4} | {:.3} |  worst {}",
+            r.name, r.domain, r.samples, r.max_ulp, r.mean_ulp, r.max_err, r.worst
+        );
+    }
+    let failed: Vec<String> = rows
+        .iter()
+        .filter(|r| r.max_ulp > r.bound.0 || r.max_err > r.bound.1)
+        .map(|r| {
+            format!(
+                "{}: {} ULP, err {:.3}; {}",
+                r.name, r.max_ulp, r.max_err, r.worst
+            )
+        })
+        .collect();
     assert!(failed.is_empty(), "{}", failed.join("\n"));
 }

@@ -45,6 +45,31 @@ def f32_exact(x):
     return float(mp.nint(x * scale) / scale)
 
 
+# core::f32::consts that some constants coincide with (clippy's approx_constant wants the name).
+STD_CONSTS = {
+    'PI': mp.pi, 'FRAC_PI_2': mp.pi / 2, 'FRAC_PI_4': mp.pi / 4, 'FRAC_2_PI': 2 / mp.pi,
+    'LN_2': mp.log(2), 'LOG2_E': 1 / mp.log(2), 'FRAC_2_SQRT_PI': 2 / mp.sqrt(mp.pi),
+}
+
+
+def f32_literal(v):
+    """The core::f32::consts name of v if it is one, else the shortest decimal that parses back
+    to the f32 v (keeps clippy's excessive_precision and approx_constant quiet)."""
+    for name, c in STD_CONSTS.items():
+        if f32_exact(c) == v:
+            return f'core::f32::consts::{name}'
+    for digits in range(1, 10):
+        text = '%.*g' % (digits, v)
+        if f32(float(text)) == v:
+            break
+    if 'e' in text:
+        mant, exp = text.split('e')
+        if '.' not in mant:
+            mant += '.0'
+        return f'{mant}e{int(exp)}'
+    return text if '.' in text else text + '.0'
+
+
 def round_bits(x, nbits):
     """Round an mpf to `nbits` significant bits (nearest)."""
     x = mp.mpf(x)
@@ -166,14 +191,13 @@ OUT = []
 def const(name, value, comment=''):
     v = float(value)
     assert f32(v) == v, (name, v)
-    lit = repr(v)
-    if 'e' not in lit and '.' not in lit:
-        lit += '.0'
+    lit = f32_literal(v)
     OUT.append(f'const {name}: f32 = {lit};' + (f' // {comment}' if comment else ''))
 
 
 def poly(prefix, g, w, a, b, n, what, c0_split=False):
     coef, lo, err = fit(g, w, a, b, n, c0_split)
+    OUT.append('')
     OUT.append(f'// {what}: rel err {err:.3e} (2^{math.log2(err):.1f}) on [{float(a):.6g}, {float(b):.6g}]')
     for j, c in enumerate(coef):
         const(f'{prefix}{j}', c)
@@ -193,6 +217,13 @@ def main():
         rem = rem - c
     c7 = f32_exact(rem)
     const('PIO2_C7', c7, f'remainder after C7: {float(rem - c7):.3e}')
+    # short split for |x| < 8 (|k| <= 5, 3 bits): two 21-bit pieces (k * piece exact) + 24-bit tail
+    s1 = round_bits(pi / 2, 21)
+    s2 = round_bits(pi / 2 - s1, 21)
+    s3 = f32_exact(pi / 2 - s1 - s2)
+    const('PIO2_S1', s1, '21 significant bits: k * S1 exact for |k| < 8')
+    const('PIO2_S2', s2, '21 significant bits')
+    const('PIO2_S3', s3, f'remainder after S3: {float(pi / 2 - s1 - s2 - s3):.3e}')
     const('FRAC_2_PI', f32_exact(2 / pi))
     # pi/2, pi, pi/4 as hi + lo (24 + 24 bits).
     for name, v in (('PIO2', pi / 2), ('PI', pi), ('PIO4', pi / 4)):
@@ -259,7 +290,7 @@ def main():
         poly(prefix, lambda v, c=c: F(v + c), lambda v, c=c: 1 / F(v + c), a - c, b - c, n,
              f'F(x) = erfc(x) exp(x^2) = P(x - {float(c)})', c0_split=True)
 
-    text = '\n'.join(OUT) + '\n'
+    text = '\n'.join(OUT) + '\n\n'  # blank line: keeps rustfmt from indenting the end marker
     if '--write' in sys.argv:
         path = Path(__file__).resolve().parent.parent / 'src' / 'math.rs'
         src = path.read_text()

@@ -72,33 +72,60 @@ impl Domain for SphereDomain {
     }
 }
 
+/// Where [`HalfVectorDomain`] puts the pole of its (cos theta, phi) coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pole {
+    /// About the stretched wi, p = normalize(alpha_x wi.x, alpha_y wi.y, wi.z): u = cos theta' in
+    /// [0, 1] covers exactly the reachable hemisphere h_std.p > 0. Suits NDF sampling, whose
+    /// density jumps at that hemisphere's rim (u = 0, a domain edge) and nowhere inside.
+    StretchedWi,
+    /// About the normal: u = (h_std.z + 1) / 2, so the jump of the VNDF densities at the horizon
+    /// of the half vector (h_std.z = 0) is the row edge u = 1/2; the unreachable half
+    /// h_std.p <= 0 has Jacobian 0 (the VNDF densities vanish continuously towards it).
+    Normal,
+}
+
 /// Reflected directions wo parameterized by their half vector in the stretched configuration:
-/// h = normalize(wi + wo), h_std = normalize(h.x / alpha_x, h.y / alpha_y, h.z), and (u, v) =
-/// (cos theta', phi' / 2 pi) of h_std about the pole p = normalize(alpha_x wi.x, alpha_y wi.y, wi.z)
-/// (h.wi > 0 <=> h_std.p > 0, so the hemisphere about p is the whole sphere of wo). For the VNDF
-/// methods the density in (u, v) is a clipped linear ramp whatever alpha and theta_i are.
+/// h = normalize(wi + wo), h_std = normalize(h.x / alpha_x, h.y / alpha_y, h.z), and (u, v) the
+/// (cos theta, phi) coordinates of h_std about a [`Pole`]. h.wi > 0 <=> h_std.p > 0 with
+/// p = normalize(alpha_x wi.x, alpha_y wi.y, wi.z), so the hemisphere about p is the whole sphere
+/// of wo (less wo = -wi). For the VNDF methods the density in h_std is a clipped cosine lobe
+/// whatever alpha and theta_i are, so one grid resolves every lobe.
 ///
 /// Jacobian: |d wo / d h| = 4 (wi.h), |d h / d h_std| = alpha_x alpha_y / |A h_std|^3 (A =
-/// diag(alpha_x, alpha_y, 1)), |d h_std / du dv| = 2 pi.
+/// diag(alpha_x, alpha_y, 1)), |d h_std / du dv| = 2 pi (pole p) or 4 pi (pole z).
 #[derive(Clone, Copy, Debug)]
 pub struct HalfVectorDomain {
     pub wi: [f64; 3],
     pub alpha_x: f64,
     pub alpha_y: f64,
-    pole: [f64; 3],
+    pub pole: Pole,
+    p: [f64; 3],
     t1: [f64; 3],
     t2: [f64; 3],
 }
 
 impl HalfVectorDomain {
     /// `wi` unit, alphas > 0.
-    pub fn new(wi: [f64; 3], alpha_x: f64, alpha_y: f64) -> Self {
+    pub fn new(wi: [f64; 3], alpha_x: f64, alpha_y: f64, pole: Pole) -> Self {
         assert!(alpha_x > 0.0 && alpha_y > 0.0, "HalfVectorDomain needs alpha > 0");
-        let pole = norm([alpha_x * wi[0], alpha_y * wi[1], wi[2]]);
-        let helper = if pole[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
-        let t1 = norm(cross(helper, pole));
-        let t2 = cross(pole, t1);
-        HalfVectorDomain { wi, alpha_x, alpha_y, pole, t1, t2 }
+        let p = norm([alpha_x * wi[0], alpha_y * wi[1], wi[2]]);
+        let (t1, t2) = match pole {
+            Pole::StretchedWi => {
+                let helper = if p[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+                let t1 = norm(cross(helper, p));
+                (t1, cross(p, t1))
+            }
+            Pole::Normal => ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        };
+        HalfVectorDomain { wi, alpha_x, alpha_y, pole, p, t1, t2 }
+    }
+
+    fn axis(&self) -> [f64; 3] {
+        match self.pole {
+            Pole::StretchedWi => self.p,
+            Pole::Normal => [0.0, 0.0, 1.0],
+        }
     }
 }
 
@@ -111,22 +138,34 @@ impl Domain for HalfVectorDomain {
             return None;
         }
         let hs = [hs[0] / l, hs[1] / l, hs[2] / l];
-        let c = dot(hs, self.pole);
-        // Rounding can put a sample a hair below the rim; keep it in the first row.
-        Some((c.max(0.0), phi_unit(dot(hs, self.t2), dot(hs, self.t1))))
+        let c = dot(hs, self.axis());
+        let phi = phi_unit(dot(hs, self.t2), dot(hs, self.t1));
+        Some(match self.pole {
+            // Rounding can put a sample a hair below the rim; keep it in the first row.
+            Pole::StretchedWi => (c.max(0.0), phi),
+            Pole::Normal => ((c + 1.0) * 0.5, phi),
+        })
     }
 
     fn from_unit(&self, u: f64, v: f64) -> ([f64; 3], f64) {
-        let s = (1.0 - u * u).max(0.0).sqrt();
-        let p = 2.0 * PI * v;
-        let (cx, cy) = (s * p.cos(), s * p.sin());
-        let hs: [f64; 3] = std::array::from_fn(|k| cx * self.t1[k] + cy * self.t2[k] + u * self.pole[k]);
+        let (c, dudv) = match self.pole {
+            Pole::StretchedWi => (u, 2.0 * PI),
+            Pole::Normal => (2.0 * u - 1.0, 4.0 * PI),
+        };
+        let s = (1.0 - c * c).max(0.0).sqrt();
+        let ph = 2.0 * PI * v;
+        let (cx, cy) = (s * ph.cos(), s * ph.sin());
+        let axis = self.axis();
+        let hs: [f64; 3] = std::array::from_fn(|k| cx * self.t1[k] + cy * self.t2[k] + c * axis[k]);
+        if dot(hs, self.p) <= 0.0 {
+            return ([0.0, 0.0, 0.0], 0.0);
+        }
         let h = [self.alpha_x * hs[0], self.alpha_y * hs[1], hs[2]];
         let l = dot(h, h).sqrt();
         let h = [h[0] / l, h[1] / l, h[2] / l];
-        let c = dot(self.wi, h);
-        let wo = [2.0 * c * h[0] - self.wi[0], 2.0 * c * h[1] - self.wi[1], 2.0 * c * h[2] - self.wi[2]];
-        let jac = 2.0 * PI * (self.alpha_x * self.alpha_y / (l * l * l)) * 4.0 * c.abs();
+        let d = dot(self.wi, h);
+        let wo = [2.0 * d * h[0] - self.wi[0], 2.0 * d * h[1] - self.wi[1], 2.0 * d * h[2] - self.wi[2]];
+        let jac = dudv * (self.alpha_x * self.alpha_y / (l * l * l)) * 4.0 * d.abs();
         (wo, jac)
     }
 }
@@ -175,7 +214,9 @@ impl Integrand<'_> {
             return 0.0;
         }
         let p = (self.pdf)(w);
-        if p == 0.0 {
+        // 0, and the non-finite values a density can reach at a measure-zero set by f32 rounding
+        // (NDF sampling's 1 / |wi.wm| at wo = -wi), contribute nothing.
+        if p == 0.0 || !p.is_finite() {
             0.0
         } else {
             p * jac
@@ -497,9 +538,13 @@ mod tests {
 
     #[test]
     fn domains_round_trip() {
-        let d = HalfVectorDomain::new([0.6, 0.0, 0.8], 0.3, 0.05);
-        for &(u, v) in &[(0.1, 0.2), (0.5, 0.9), (0.95, 0.5), (0.01, 0.01)] {
-            for dom in [&d as &dyn Domain, &SphereDomain] {
+        let d = HalfVectorDomain::new([0.6, 0.0, 0.8], 0.3, 0.05, Pole::StretchedWi);
+        let e = HalfVectorDomain::new([0.6, 0.0, 0.8], 0.3, 0.05, Pole::Normal);
+        for &(u, v) in &[(0.1, 0.2), (0.5, 0.9), (0.95, 0.5), (0.01, 0.01), (0.7, 0.02)] {
+            for dom in [&d as &dyn Domain, &e, &SphereDomain] {
+                if dom.from_unit(u, v).1 == 0.0 {
+                    continue;
+                }
                 let (w, _) = dom.from_unit(u, v);
                 let (u2, v2) = dom.to_unit(w).unwrap();
                 assert!((u - u2).abs() < 1e-9 && (v - v2).abs() < 1e-9, "{u} {v} -> {u2} {v2}");
@@ -512,8 +557,10 @@ mod tests {
         let grid = Grid { res_u: 8, res_v: 8, ..Grid::default() };
         let (p, _) = integrate_cells(&SphereDomain, &|_| 1.0 / (4.0 * PI), &grid, 1e6);
         assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12);
-        let d = HalfVectorDomain::new([0.0, 0.6, 0.8], 0.5, 0.2);
-        let (p, _) = integrate_cells(&d, &|_| 1.0 / (4.0 * PI), &grid, 1e6);
-        assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-6, "{}", p.iter().sum::<f64>());
+        for pole in [Pole::StretchedWi, Pole::Normal] {
+            let d = HalfVectorDomain::new([0.0, 0.6, 0.8], 0.5, 0.2, pole);
+            let (p, _) = integrate_cells(&d, &|_| 1.0 / (4.0 * PI), &grid, 1e6);
+            assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-5, "{pole:?}: {}", p.iter().sum::<f64>());
+        }
     }
 }
