@@ -83,6 +83,8 @@ enum Cmd {
     Ssr(host::ssr::cli::SsrCommand),
     /// Cost and accuracy benchmarks: `host bench microfacet` (writes docs/microfacet-cost.md and .png).
     Bench(host::bench_microfacet::BenchCli),
+    /// Energy compensation for GGX (Kulla-Conty, Turquin): `host energy precompute | furnace | bench`.
+    Energy(host::energy::EnergyCli),
 }
 
 fn main() {
@@ -96,6 +98,7 @@ fn run(cli: Cli) -> Result<()> {
     match cli.cmd {
         Cmd::Info { device } => info(device),
         Cmd::Bench(b) => b.run(),
+        Cmd::Energy(e) => e.run(),
         Cmd::Eval { function, list, input, output, device, allow_nonfinite } => {
             if list {
                 print!("{}", host::eval::list());

@@ -7,6 +7,7 @@
 
 pub mod bxdf;
 pub mod complex;
+pub mod energy;
 pub mod fresnel;
 pub mod masking;
 pub mod math;

@@ -464,7 +464,7 @@ pub fn rsqrt(x: f32) -> f32 {
 /// significand with a 96-bit window of 2/pi (16-bit digits, 32-bit arithmetic).
 fn rem_pio2_large(ax: f32) -> (i32, f32, f32) {
     let bits = ax.to_bits();
-    let eb = ((bits >> 23) & 0xff) as i32; // biased exponent, >= 134 here
+    let eb = ((bits >> 23) & 0xff) as i32; // biased exponent, >= 143 here (ax > 102900)
     let m = (bits & 0x007f_ffff) | 0x0080_0000; // 24-bit significand: ax = m * 2^(eb - 150)
 
     // The window of 2/pi starts at bit s = eb - 151 (bits before it only add multiples of 4 to

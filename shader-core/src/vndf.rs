@@ -179,9 +179,14 @@ pub fn sample_ndf(wi: Vec3, alpha_x: f32, alpha_y: f32, u1: f32, u2: f32) -> Ref
 }
 
 /// Density of [`sample_ndf`] at wo (Walter et al. 2007 eq. 38): D(wm) wm.z / (4 |wi.wm|) with wm
-/// the half vector +-(wi + wo) turned to the upper hemisphere (a back-facing sampled normal is the
-/// negated half vector); evaluated without normalizing as D(h) h.z / (4 |wi.h|). 0 where the half
-/// vector is horizontal or zero (wo = -wi), or alpha = 0.
+/// the half vector +-normalize(wi + wo) turned to the upper hemisphere (a back-facing sampled
+/// normal is the negated half vector). 0 where the half vector is horizontal or zero (wo = -wi),
+/// or alpha = 0.
+///
+/// |wi.wm| is the cosine of half the angle between wi and wo, sqrt((1 + cos) / 2), with 1 + cos
+/// taken as sin^2 / (1 - cos) from |wi x wo| when the angle exceeds 90 degrees: near wo = -wi
+/// (every reflection at grazing incidence) the plain 1 + wi.wo cancels, and the f32 rounding of
+/// |wo| alone (6e-8) would be a 1 % error at theta_i = 89.9 degrees.
 #[inline]
 pub fn pdf_ndf(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     if !reflection_input_valid(wi, alpha_x, alpha_y) {
@@ -195,7 +200,15 @@ pub fn pdf_ndf(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     if d == 0.0 || d.is_nan() {
         return d;
     }
-    d * h.z / (4.0 * wi.dot(h).abs())
+    let lw = wi.length() * wo.length();
+    let c = wi.dot(wo);
+    let one_plus_cos = if c >= 0.0 {
+        1.0 + c / lw
+    } else {
+        wi.cross(wo).length_squared() / (lw * (lw - c))
+    };
+    let cos_half = Float::sqrt(0.5 * one_plus_cos);
+    d * (h.z / h.length()) / (4.0 * cos_half)
 }
 
 /// Heitz 2018 ellipsoid VNDF sampling ("Sampling the GGX Distribution of Visible Normals", JCGT

@@ -7,6 +7,7 @@
 #![no_std]
 
 pub mod bxdf_table;
+pub mod energy;
 pub mod microfacet_table;
 pub mod ssr;
 pub mod table;

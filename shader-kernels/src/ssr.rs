@@ -189,18 +189,21 @@ pub fn sssr_resolve(
     stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
 }
 
-/// Stochastic SSR, temporal accumulation (one invocation per pixel; history stride 5).
+/// Stochastic SSR, temporal accumulation (one invocation per pixel; history stride 5): hit-based
+/// or surface reprojection, depth/normal history rejection against the previous G-buffer.
 #[spirv(compute(threads(64)))]
 pub fn sssr_temporal(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] current: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] history: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] prev_gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] current: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] history: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = SsrParams::load(consts);
-    stochastic::temporal_pixel(&p, gbuf, current, history, i % p.width, i / p.width, out, (i as usize) * stochastic::HISTORY_STRIDE);
+    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, rays, current, history, i % p.width, i / p.width, out, (i as usize) * stochastic::HISTORY_STRIDE);
 }

@@ -174,3 +174,22 @@ fn visibility_terms() {
     }
     check_all(&["v_cook_torrance"], &rows);
 }
+
+#[test]
+fn issue_3_functions_are_registered_for_host_eval() {
+    // The names `host eval --list` must show (issue #3); `host/tests/cli.rs` checks that every
+    // registered function is listed.
+    let required = [
+        "ggx_d",
+        "ggx_lambda",
+        "ggx_g1",
+        "ggx_g2_height_correlated",
+        "beckmann_d",
+        "beckmann_g1",
+        "fresnel_dielectric",
+        "fresnel_conductor",
+        "conductor_f",
+    ];
+    let missing: Vec<&str> = required.iter().copied().filter(|n| !shader_kernels::table::FUNCTIONS.iter().any(|f| f.name == *n)).collect();
+    assert!(missing.is_empty(), "not registered for `host eval`: {missing:?}");
+}

@@ -7,10 +7,10 @@
 
 use super::cli::{errors, Errors};
 use super::metrics::{composite, tonemap};
-use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode};
+use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode, VndfSampler};
 use super::reference::{render_reference, Reference};
 use super::scene::scene;
-use super::sssr::{run_sssr, SssrSettings};
+use super::sssr::{run_sssr, Reprojection, SssrSettings};
 use crate::{Backend, DeviceChoice};
 use anyhow::{Context, Result};
 use std::fmt::Write as _;
@@ -46,19 +46,23 @@ pub struct BenchArgs {
 #[derive(Clone, Debug)]
 pub enum Config {
     Hdrp(TraceMode, HdrpResolve),
-    Sssr(SssrSettings),
+    Sssr(SssrSettings, VndfSampler),
 }
 
 impl Config {
     pub fn label(&self) -> String {
         match self {
             Config::Hdrp(t, r) => format!("HDRP {} {}", t.label(), r.label()),
-            Config::Sssr(s) => {
+            Config::Sssr(s, smp) => {
                 let rays = if s.rays_per_quad == 4 { format!("{} rpp", s.samples_per_pixel) } else { format!("{}/quad", s.rays_per_quad * s.samples_per_pixel) };
+                let d = SssrSettings::default();
                 format!(
-                    "SSSR {rays}{}{}",
+                    "SSSR {rays}{}{}{}{}{}",
                     if s.reuse { " reuse" } else { "" },
-                    if s.temporal_frames > 1 { format!(" +T{}", s.temporal_frames) } else { String::new() }
+                    if s.temporal_frames > 1 { format!(" +T{}", s.temporal_frames) } else { String::new() },
+                    if s.temporal_frames > 1 && s.reprojection == Reprojection::Surface { " surface-mv" } else { "" },
+                    if s.hiz_roughness_cut != d.hiz_roughness_cut { format!(" linear16>={}", s.hiz_roughness_cut) } else { String::new() },
+                    if *smp != VndfSampler::Heitz { format!(" {}", smp.label()) } else { String::new() },
                 )
             }
         }
@@ -75,14 +79,19 @@ pub fn configs() -> Vec<Config> {
         Config::Hdrp(TraceMode::HiZ, HdrpResolve::Block3x3),
         Config::Hdrp(TraceMode::HiZ, HdrpResolve::Cross5),
     ];
-    for spp in [1, 4] {
-        for reuse in [false, true] {
-            v.push(Config::Sssr(SssrSettings { samples_per_pixel: spp, reuse, ..SssrSettings::default() }));
-        }
-        v.push(Config::Sssr(SssrSettings { samples_per_pixel: spp, reuse: true, temporal_frames: 16, ..SssrSettings::default() }));
-    }
-    v.push(Config::Sssr(SssrSettings { rays_per_quad: 1, reuse: true, ..SssrSettings::default() }));
-    v.push(Config::Sssr(SssrSettings { rays_per_quad: 1, reuse: true, temporal_frames: 16, ..SssrSettings::default() }));
+    let d = SssrSettings::default();
+    let h = VndfSampler::Heitz;
+    v.push(Config::Sssr(SssrSettings { reuse: false, ..d.clone() }, h));
+    v.push(Config::Sssr(d.clone(), h));
+    v.push(Config::Sssr(SssrSettings { hiz_roughness_cut: 0.2, ..d.clone() }, h));
+    v.push(Config::Sssr(d.clone(), VndfSampler::Caps));
+    v.push(Config::Sssr(d.clone(), VndfSampler::Bounded));
+    v.push(Config::Sssr(SssrSettings { temporal_frames: 16, reprojection: Reprojection::Surface, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { temporal_frames: 16, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { samples_per_pixel: 4, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { samples_per_pixel: 4, temporal_frames: 16, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { rays_per_quad: 1, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { rays_per_quad: 1, temporal_frames: 16, ..d.clone() }, h));
     v
 }
 
@@ -90,7 +99,7 @@ pub fn configs() -> Vec<Config> {
 pub fn run_config(backend: &Backend, sc: &super::scene::Scene, gb: &super::GBuffer, s: &SsrSettings, c: &Config, frame: u32) -> Result<SsrResult> {
     match c {
         Config::Hdrp(t, r) => run_hdrp(backend, gb, s, *t, *r),
-        Config::Sssr(t) => run_sssr(backend, Some(sc), gb, s, t, frame, t.temporal_frames),
+        Config::Sssr(t, smp) => run_sssr(backend, Some(sc), gb, &SsrSettings { sampler: *smp, ..s.clone() }, t, frame, t.temporal_frames),
     }
 }
 
@@ -172,7 +181,7 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
         let (tiles_skipped, pixels_skipped) = match &res.tiles {
             Some(t) => (
                 Some(t.skipped as f64 / t.tiles as f64),
-                Some(1.0 - t.rays as f64 / (gb.width * gb.height) as f64 / f64::from(match &c { Config::Sssr(x) => x.samples_per_pixel, _ => 1 })),
+                Some(1.0 - t.rays as f64 / (gb.width * gb.height) as f64 / f64::from(match &c { Config::Sssr(x, _) => x.samples_per_pixel, _ => 1 })),
             ),
             None => (None, None),
         };
@@ -377,5 +386,119 @@ fn plot(path: &Path, rows: &[Row], gpu: Option<&str>) -> Result<()> {
     }
     crate::io::create_parent_dir(path)?;
     image::save_buffer(path, &buf, w, h, image::ColorType::Rgb8).with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+/// `host ssr ablate`: the stochastic pipeline with its parts switched off one at a time, and
+/// HDRP's resolves, on one scene; relative RMSE against the on-screen reference over non-mirror
+/// glossy pixels, in total and per roughness value (to find where SSSR's error comes from).
+#[derive(Clone, Debug, clap::Args)]
+pub struct AblateArgs {
+    #[arg(long, default_value = "floor")]
+    pub scene: String,
+    #[arg(long, default_value_t = 128)]
+    pub width: usize,
+    #[arg(long, default_value_t = 128)]
+    pub height: usize,
+    #[arg(long, default_value_t = 64)]
+    pub reference_samples: u32,
+    /// Rays per pixel of the SSSR variants.
+    #[arg(long, default_value_t = 4)]
+    pub spp: u32,
+}
+
+/// The ablation's configurations: (label, pipeline settings, configuration).
+pub fn ablation_configs(spp: u32) -> Vec<(String, Config)> {
+    let base = SssrSettings { samples_per_pixel: spp, ..SssrSettings::default() };
+    let plain = SssrSettings { fis: false, sample_bias: 0.0, ..base.clone() };
+    let mut v = vec![
+        ("HDRP hiz 3x3".to_string(), Config::Hdrp(TraceMode::HiZ, HdrpResolve::Block3x3)),
+        ("HDRP hiz cross5".to_string(), Config::Hdrp(TraceMode::HiZ, HdrpResolve::Cross5)),
+        (format!("SSSR {spp} rpp reuse (defaults)"), Config::Sssr(base.clone(), VndfSampler::Heitz)),
+        ("  - pdf stored at sampling (old weights)".into(), Config::Sssr(SssrSettings { sampled_pdf: true, ..base.clone() }, VndfSampler::Heitz)),
+        ("  - FIS off".into(), Config::Sssr(SssrSettings { fis: false, ..base.clone() }, VndfSampler::Heitz)),
+        ("  - bias 0".into(), Config::Sssr(SssrSettings { sample_bias: 0.0, ..base.clone() }, VndfSampler::Heitz)),
+        ("  + linear 16-step march for roughness >= 0.2 (old default)".into(), Config::Sssr(SssrSettings { hiz_roughness_cut: 0.2, ..base.clone() }, VndfSampler::Heitz)),
+        ("  - FIS and bias off (plain)".into(), Config::Sssr(plain.clone(), VndfSampler::Heitz)),
+        ("  plain, reuse off".into(), Config::Sssr(SssrSettings { reuse: false, ..plain.clone() }, VndfSampler::Heitz)),
+        ("  plain, pdf stored at sampling".into(), Config::Sssr(SssrSettings { sampled_pdf: true, ..plain.clone() }, VndfSampler::Heitz)),
+        ("  plain, pdf stored at sampling, reuse off".into(), Config::Sssr(SssrSettings { sampled_pdf: true, reuse: false, ..plain.clone() }, VndfSampler::Heitz)),
+    ];
+    for smp in [VndfSampler::Caps, VndfSampler::Bounded] {
+        v.push((format!("SSSR {spp} rpp reuse, sampler {}", smp.label()), Config::Sssr(base.clone(), smp)));
+    }
+    let one = SssrSettings { samples_per_pixel: 1, ..base.clone() };
+    v.push(("SSSR 1 rpp reuse, 1 frame".into(), Config::Sssr(one.clone(), VndfSampler::Heitz)));
+    for (name, reprojection, history_rejection) in [
+        ("surface motion, clamp only", Reprojection::Surface, false),
+        ("surface motion + depth/normal rejection", Reprojection::Surface, true),
+        ("hit (virtual image), clamp only", Reprojection::Hit, false),
+        ("hit (virtual image) + depth/normal rejection", Reprojection::Hit, true),
+    ] {
+        v.push((
+            format!("SSSR 1 rpp reuse +T16, {name}"),
+            Config::Sssr(SssrSettings { temporal_frames: 16, reprojection, history_rejection, ..one.clone() }, VndfSampler::Heitz),
+        ));
+    }
+    v
+}
+
+/// Run the ablation and print its table (Markdown).
+pub fn run_ablate(a: &AblateArgs) -> Result<()> {
+    let sc = scene(&a.scene)?;
+    let frame = if sc.animated() { 20 } else { 0 };
+    let gb = sc.render_gbuffer(a.width, a.height, frame);
+    gb.validate()?;
+    let s0 = SsrSettings { frame, ..SsrSettings::default() };
+    let reference = render_reference(&sc, &gb, 1.0 - s0.min_smoothness, a.reference_samples);
+    let mut bands: Vec<f32> = Vec::new();
+    for (i, g) in reference.glossy.iter().enumerate() {
+        let r = (gb.roughness[i] * 100.0).round() / 100.0;
+        if *g && gb.roughness[i] >= shader_core::ssr::stochastic::MIRROR_ROUGHNESS && !bands.contains(&r) {
+            bands.push(r);
+        }
+    }
+    bands.sort_by(|x, y| x.total_cmp(y));
+    let masked = |keep: &dyn Fn(usize) -> bool| {
+        let mut r = reference.clone();
+        for (i, g) in r.glossy.iter_mut().enumerate() {
+            *g = *g && keep(i);
+        }
+        r
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "`host ssr ablate --scene {} --width {} --height {} --reference-samples {} --spp {}`: relative RMSE vs the on-screen reference\n",
+        a.scene, a.width, a.height, a.reference_samples, a.spp
+    );
+    let _ = write!(out, "| configuration | glossy rel | non-mirror rel | on-screen-only pixels, non-mirror rel |");
+    for b in &bands {
+        let _ = write!(out, " roughness {b:.2} rel |");
+    }
+    let _ = writeln!(out, " opacity mean (non-mirror) |");
+    let _ = writeln!(out, "|---|---|---|---|{}---|", "---|".repeat(bands.len()));
+    for (label, c) in ablation_configs(a.spp) {
+        let res = run_config(&Backend::Cpu, &sc, &gb, &s0, &c, frame)?;
+        let nm = |i: usize| gb.roughness[i] >= shader_core::ssr::stochastic::MIRROR_ROUGHNESS;
+        let all = errors(&res, &masked(&nm), sc.sky).algorithm;
+        let on = errors(&res, &masked(&|i| nm(i) && reference.onscreen_fraction[i] >= 0.999), sc.sky).algorithm;
+        let glossy = errors(&res, &reference, sc.sky).algorithm;
+        let _ = write!(out, "| {label} | {:.3} | {:.3} | {:.3} |", glossy.rel, all.rel, on.rel);
+        for b in &bands {
+            let e = errors(&res, &masked(&|i| nm(i) && ((gb.roughness[i] * 100.0).round() / 100.0) == *b), sc.sky).algorithm;
+            let _ = write!(out, " {:.3} |", e.rel);
+        }
+        let (mut sa, mut na) = (0.0f64, 0usize);
+        for i in 0..gb.width * gb.height {
+            if reference.glossy[i] && nm(i) {
+                sa += f64::from(res.reflection[4 * i + 3]);
+                na += 1;
+            }
+        }
+        let _ = writeln!(out, " {:.3} |", sa / na.max(1) as f64);
+        eprintln!("{label}: {:.3}", all.rel);
+    }
+    println!("{out}");
     Ok(())
 }

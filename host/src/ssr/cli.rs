@@ -4,10 +4,10 @@
 
 use super::gbuffer::GBuffer;
 use super::metrics::{composite, error, ErrorStats};
-use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode};
+use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode, VndfSampler};
 use super::reference::{render_reference, Reference};
 use super::scene::{scene, Scene};
-use super::sssr::{run_sssr, SssrSettings};
+use super::sssr::{run_sssr, Reprojection, SssrSettings};
 use crate::io::{write_exr, write_heatmap_png, write_rgb_preview_png};
 use crate::{Backend, DeviceChoice};
 use anyhow::{bail, Context, Result};
@@ -77,12 +77,23 @@ pub struct RunArgs {
     /// SSSR: importance-sampling bias (the VNDF's radial u is scaled by 1 - bias).
     #[arg(long, default_value_t = 0.1)]
     pub bias: f32,
-    /// SSSR: perceptual roughness above which rays use the linear march instead of Hi-Z.
-    #[arg(long, default_value_t = 0.2)]
+    /// SSSR: perceptual roughness from which rays use the 16-step linear march instead of Hi-Z
+    /// (1 = Hi-Z for every ray; Stachowiak's split is about 0.2).
+    #[arg(long, default_value_t = 1.0)]
     pub hiz_roughness_cut: f32,
     /// SSSR: disable filtered importance sampling (colour pyramid mip from the ray cone).
     #[arg(long)]
     pub no_fis: bool,
+    /// GGX visible-normal sampler of the stochastic rays (SSSR, HDRP 3x3 / cross5).
+    #[arg(long, value_enum, default_value = "heitz")]
+    pub sampler: VndfSampler,
+    /// SSSR temporal reprojection of the history: through the reflected hit (virtual image) or
+    /// the surface's motion vector.
+    #[arg(long, value_enum, default_value = "hit")]
+    pub reprojection: Reprojection,
+    /// SSSR: disable the depth/normal history rejection (the neighbourhood clamp stays).
+    #[arg(long)]
+    pub no_history_rejection: bool,
     /// Reference rays per glossy pixel (procedural scenes).
     #[arg(long, default_value_t = 64)]
     pub reference_samples: u32,
@@ -99,6 +110,7 @@ impl RunArgs {
             smoothness_fade_start: self.smoothness_fade_start,
             hiz_max_iterations: self.max_steps,
             frame: self.frame,
+            sampler: self.sampler,
             ..SsrSettings::default()
         }
     }
@@ -112,6 +124,8 @@ impl RunArgs {
             sample_bias: self.bias,
             hiz_roughness_cut: self.hiz_roughness_cut,
             fis: !self.no_fis,
+            reprojection: self.reprojection,
+            history_rejection: !self.no_history_rejection,
             ..SssrSettings::default()
         }
     }
@@ -345,11 +359,15 @@ pub enum SsrSub {
     /// Every configuration on every built-in scene: errors, times, skipped work; writes a
     /// Markdown report and a PNG of error against time.
     Bench(super::bench::BenchArgs),
+    /// The stochastic pipeline with its parts switched off one at a time (non-mirror error per
+    /// roughness band), to locate its error; prints a Markdown table.
+    Ablate(super::bench::AblateArgs),
 }
 
 pub fn main(cmd: SsrCommand) -> Result<()> {
     match cmd.sub {
         Some(SsrSub::Bench(b)) => super::bench::run(&b),
+        Some(SsrSub::Ablate(b)) => super::bench::run_ablate(&b),
         None => run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref()),
     }
 }

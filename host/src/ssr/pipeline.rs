@@ -81,6 +81,37 @@ pub struct SsrSettings {
     /// Reject hits on surfaces facing away from the ray.
     pub backface_reject: bool,
     pub frame: u32,
+    /// The GGX visible-normal sampler of the stochastic rays (HDRP's non-approximate resolves and SSSR).
+    pub sampler: VndfSampler,
+}
+
+/// The visible-normal sampler of `shader_core::vndf` used for GGX rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum VndfSampler {
+    /// Heitz 2018 ellipsoid (projected-disk) sampling; bias truncates u1 (disk radius^2).
+    Heitz,
+    /// Dupuy & Benyoub 2023 spherical caps; bias truncates u2 (cap height).
+    Caps,
+    /// Eto & Tokuyoshi 2023 bounded caps (fewer rays below the horizon); bias truncates u2.
+    Bounded,
+}
+
+impl VndfSampler {
+    pub fn label(&self) -> &'static str {
+        match self {
+            VndfSampler::Heitz => "heitz",
+            VndfSampler::Caps => "caps",
+            VndfSampler::Bounded => "bounded",
+        }
+    }
+    /// The `SAMPLER` parameter value.
+    pub fn id(&self) -> u32 {
+        match self {
+            VndfSampler::Heitz => params::SAMPLER_HEITZ,
+            VndfSampler::Caps => params::SAMPLER_CAPS,
+            VndfSampler::Bounded => params::SAMPLER_BOUNDED,
+        }
+    }
 }
 
 impl Default for SsrSettings {
@@ -94,6 +125,7 @@ impl Default for SsrSettings {
             hiz_max_mip: 16,
             backface_reject: true,
             frame: 0,
+            sampler: VndfSampler::Heitz,
         }
     }
 }
@@ -147,11 +179,26 @@ pub fn build_params(gb: &GBuffer, s: &SsrSettings) -> Result<Vec<f32>> {
     b[idx::RESOLVE_RADIUS] = u(1);
     b[idx::TEMPORAL_ALPHA] = 0.1;
     b[idx::MIP_COUNT] = u(levels);
+    b[idx::SAMPLER] = u(s.sampler.id());
+    b[idx::HISTORY_DEPTH_TOLERANCE] = 0.05;
+    b[idx::HISTORY_NORMAL_COS] = 0.9;
+    b[idx::HISTORY_ROUGHNESS_TOLERANCE] = 0.05;
+    b[idx::TEMPORAL_REPROJECTION] = u(params::REPROJECT_HIT);
     let view = gb.camera.view();
     let proj = gb.camera.proj(gb.width, gb.height);
-    let prev_vp = gb.previous_camera.proj(gb.width, gb.height).mul_mat(&gb.previous_camera.view());
+    let prev_view = gb.previous_camera.view();
+    let prev_proj = gb.previous_camera.proj(gb.width, gb.height);
+    let prev_vp = prev_proj.mul_mat(&prev_view);
     let inv_view = gb.camera.inv_view()?;
-    for (base, m) in [(idx::VIEW, view), (idx::PROJ, proj), (idx::PREV_VIEW_PROJ, prev_vp), (idx::INV_VIEW, inv_view)] {
+    let prev_inv_view = gb.previous_camera.inv_view()?;
+    for (base, m) in [
+        (idx::VIEW, view),
+        (idx::PROJ, proj),
+        (idx::PREV_VIEW_PROJ, prev_vp),
+        (idx::INV_VIEW, inv_view),
+        (idx::PREV_PROJ, prev_proj),
+        (idx::PREV_INV_VIEW, prev_inv_view),
+    ] {
         b[base..base + 16].copy_from_slice(&m.to_rows());
     }
     Ok(b)

@@ -8,7 +8,7 @@ use super::scene::Scene;
 use crate::Backend;
 use anyhow::Result;
 use rayon::prelude::*;
-use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_STOCHASTIC};
+use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
 use shader_core::ssr::resolve::OUT_STRIDE;
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
@@ -30,12 +30,30 @@ pub struct SssrSettings {
     pub temporal_alpha: f32,
     /// Importance-sampling bias (truncated radial u).
     pub sample_bias: f32,
-    /// Perceptual roughness from which rays use the linear march.
+    /// Perceptual roughness from which rays use the linear march (Stachowiak's cheap tracer for
+    /// rough rays; default 1 = Hi-Z for every ray: at 0.2 the 16-step march's missed hits were the
+    /// largest part of the non-mirror error, docs/ssr.md).
     pub hiz_roughness_cut: f32,
     /// Steps of that linear march.
     pub rough_linear_steps: u32,
     /// Filtered importance sampling from the colour pyramid.
     pub fis: bool,
+    /// Weight rays with the pdf stored at sampling time (Stachowiak's form) instead of the
+    /// generating pixel's pdf at the reconstructed hit direction.
+    pub sampled_pdf: bool,
+    /// How the temporal pass reprojects the history.
+    pub reprojection: Reprojection,
+    /// Depth/normal history rejection (the neighbourhood clamp is always on).
+    pub history_rejection: bool,
+}
+
+/// Temporal reprojection of the reflection history.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Reprojection {
+    /// Through the virtual image of the reflected hit (falls back to the surface's motion).
+    Hit,
+    /// Through the surface's motion vector.
+    Surface,
 }
 
 impl Default for SssrSettings {
@@ -48,9 +66,12 @@ impl Default for SssrSettings {
             temporal_frames: 1,
             temporal_alpha: 0.1,
             sample_bias: 0.1,
-            hiz_roughness_cut: 0.2,
+            hiz_roughness_cut: 1.0,
             rough_linear_steps: 16,
             fis: true,
+            sampled_pdf: false,
+            reprojection: Reprojection::Hit,
+            history_rejection: true,
         }
     }
 }
@@ -82,12 +103,28 @@ pub fn sssr_params(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Ve
     c[idx::SAMPLE_BIAS] = t.sample_bias;
     c[idx::HIZ_ROUGHNESS_CUT] = t.hiz_roughness_cut;
     c[idx::TEMPORAL_ALPHA] = t.temporal_alpha;
+    set_u32(
+        &mut c,
+        idx::TEMPORAL_REPROJECTION,
+        match t.reprojection {
+            Reprojection::Hit => REPROJECT_HIT,
+            Reprojection::Surface => REPROJECT_SURFACE,
+        },
+    );
+    if !t.history_rejection {
+        c[idx::HISTORY_DEPTH_TOLERANCE] = 0.0;
+        c[idx::HISTORY_NORMAL_COS] = -1.0;
+        c[idx::HISTORY_ROUGHNESS_TOLERANCE] = -1.0;
+    }
     let mut flags = c[idx::FLAGS].to_bits() | FLAG_STOCHASTIC;
     if t.reuse {
         flags |= FLAG_REUSE;
     }
     if t.fis {
         flags |= FLAG_FIS;
+    }
+    if t.sampled_pdf {
+        flags |= FLAG_SAMPLED_PDF;
     }
     set_u32(&mut c, idx::FLAGS, flags);
     Ok(c)
@@ -197,16 +234,19 @@ impl Runner<'_> {
         }
     }
 
-    /// Temporal accumulation: new history (`HISTORY_STRIDE` per pixel).
-    pub fn sssr_temporal(&mut self, consts: &[f32], gbuf: &[f32], current: &[f32], history: &[f32]) -> Result<Vec<f32>> {
+    /// Temporal accumulation: new history (`HISTORY_STRIDE` per pixel). `prev_gbuf` is the packed
+    /// G-buffer of the frame the history belongs to, `rays` this frame's ray records.
+    #[allow(clippy::too_many_arguments)]
+    pub fn sssr_temporal(&mut self, consts: &[f32], gbuf: &[f32], prev_gbuf: &[f32], rays: &[f32], current: &[f32], history: &[f32]) -> Result<Vec<f32>> {
         let p = SsrParams::load(consts);
         let n = (p.width * p.height) as usize;
+        anyhow::ensure!(prev_gbuf.len() == gbuf.len(), "previous G-buffer has {} values, expected {}", prev_gbuf.len(), gbuf.len());
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("temporal", || {
                 let mut out = vec![0.0f32; n * HISTORY_STRIDE];
                 out.par_chunks_mut(HISTORY_STRIDE).enumerate().for_each(|(i, o)| {
                     let i = i as u32;
-                    stochastic::temporal_pixel(&p, gbuf, current, history, i % p.width, i / p.width, o, 0);
+                    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, rays, current, history, i % p.width, i / p.width, o, 0);
                 });
                 out
             })),
@@ -215,7 +255,7 @@ impl Runner<'_> {
                 "ssr::sssr_temporal",
                 n as u32,
                 &[],
-                &[consts, gbuf, current, history],
+                &[consts, gbuf, prev_gbuf, rays, current, history],
                 n * HISTORY_STRIDE,
                 None,
             ),
@@ -274,6 +314,7 @@ pub fn run_sssr(
 ) -> Result<SsrResult> {
     let frames = frames.max(1);
     let mut history: Option<Vec<f32>> = None;
+    let mut prev_gbuf: Option<Vec<f32>> = None;
     let mut last = None;
     for k in 0..frames {
         let f = (frame + k + 1).saturating_sub(frames);
@@ -293,8 +334,11 @@ pub fn run_sssr(
             let consts = sssr_params(g, &ss, t)?;
             let n = g.width * g.height;
             let hist = history.take().unwrap_or_else(|| vec![0.0; n * HISTORY_STRIDE]);
+            let packed = g.packed();
+            let prev = prev_gbuf.take().unwrap_or_else(|| packed.clone());
             let mut r = Runner::new(backend);
-            let out = r.sssr_temporal(&consts, &g.packed(), &res.reflection, &hist)?;
+            let out = r.sssr_temporal(&consts, &packed, &prev, &res.rays, &res.reflection, &hist)?;
+            prev_gbuf = Some(packed);
             res.times.extend(r.times);
             res.reflection = out.chunks_exact(HISTORY_STRIDE).flat_map(|c| [c[0], c[1], c[2], c[3]]).collect();
             history = Some(out);

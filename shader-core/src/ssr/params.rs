@@ -36,11 +36,18 @@ pub mod idx {
     pub const RESOLVE_RADIUS: usize = 21;
     pub const TEMPORAL_ALPHA: usize = 22;
     pub const MIP_COUNT: usize = 23;
+    pub const SAMPLER: usize = 24;
+    pub const HISTORY_DEPTH_TOLERANCE: usize = 25;
+    pub const HISTORY_NORMAL_COS: usize = 26;
+    pub const TEMPORAL_REPROJECTION: usize = 27;
+    pub const HISTORY_ROUGHNESS_TOLERANCE: usize = 28;
     pub const VIEW: usize = 32;
     pub const PROJ: usize = 48;
     pub const PREV_VIEW_PROJ: usize = 64;
     pub const INV_VIEW: usize = 80;
-    pub const LEN: usize = 96;
+    pub const PREV_PROJ: usize = 96;
+    pub const PREV_INV_VIEW: usize = 112;
+    pub const LEN: usize = 128;
 }
 
 /// Trace modes.
@@ -51,6 +58,19 @@ pub const TRACE_BRUTE_FORCE: u32 = 2;
 /// pipeline's cheap tracer for rough rays).
 pub const TRACE_LINEAR_CROSSING: u32 = 3;
 
+/// GGX visible-normal samplers of `shader_core::vndf` for the stochastic rays (the `SAMPLER`
+/// value). Importance-sampling bias truncates the u that maps to the lobe's radial/height
+/// coordinate: u1 for Heitz (disk radius r = sqrt(u1)), u2 for the spherical caps and the
+/// bounded caps (cap height z = (1 - u2)(1 + b) - b; their u1 is the azimuth).
+pub const SAMPLER_HEITZ: u32 = 0;
+pub const SAMPLER_CAPS: u32 = 1;
+pub const SAMPLER_BOUNDED: u32 = 2;
+
+/// Temporal reprojection of the reflection history (the `TEMPORAL_REPROJECTION` value): through
+/// the surface's motion vector, or through the reflected hit's virtual image.
+pub const REPROJECT_SURFACE: u32 = 0;
+pub const REPROJECT_HIT: u32 = 1;
+
 /// Flag bits.
 pub const FLAG_BACKFACE_REJECT: u32 = 1;
 /// Stochastic pass: sample rays from the GGX VNDF (otherwise mirror rays).
@@ -59,6 +79,9 @@ pub const FLAG_STOCHASTIC: u32 = 2;
 pub const FLAG_FIS: u32 = 4;
 /// Resolve: reuse neighbours' rays (otherwise only the pixel's own rays).
 pub const FLAG_REUSE: u32 = 8;
+/// Stochastic resolve: weight rays with the pdf stored at sampling time (Stachowiak's form)
+/// instead of the generating pixel's pdf at the reconstructed hit direction.
+pub const FLAG_SAMPLED_PDF: u32 = 16;
 
 /// The decoded parameters.
 #[derive(Clone, Copy, Debug)]
@@ -87,10 +110,24 @@ pub struct SsrParams {
     pub resolve_radius: u32,
     pub temporal_alpha: f32,
     pub mip_count: u32,
+    pub sampler: u32,
+    /// History rejection: largest relative difference of linear depth between the pixel and its
+    /// reprojected history texel (0 or less: no depth test).
+    pub history_depth_tolerance: f32,
+    /// History rejection: smallest cosine between the pixel's normal and the history texel's
+    /// (-1 or less: no normal test).
+    pub history_normal_cos: f32,
+    pub temporal_reprojection: u32,
+    /// History rejection: largest difference of perceptual roughness between the pixel and the
+    /// history texel's surface (negative: no roughness test).
+    pub history_roughness_tolerance: f32,
     pub view: Mat4,
     pub proj: Mat4,
     pub prev_view_proj: Mat4,
     pub inv_view: Mat4,
+    /// The previous frame's camera (history rejection reconstructs its positions).
+    pub prev_proj: Mat4,
+    pub prev_inv_view: Mat4,
 }
 
 #[inline]
@@ -127,10 +164,17 @@ impl SsrParams {
             resolve_radius: u(b, idx::RESOLVE_RADIUS),
             temporal_alpha: b[idx::TEMPORAL_ALPHA],
             mip_count: u(b, idx::MIP_COUNT),
+            sampler: u(b, idx::SAMPLER),
+            history_depth_tolerance: b[idx::HISTORY_DEPTH_TOLERANCE],
+            history_normal_cos: b[idx::HISTORY_NORMAL_COS],
+            temporal_reprojection: u(b, idx::TEMPORAL_REPROJECTION),
+            history_roughness_tolerance: b[idx::HISTORY_ROUGHNESS_TOLERANCE],
             view: Mat4::load(b, idx::VIEW),
             proj: Mat4::load(b, idx::PROJ),
             prev_view_proj: Mat4::load(b, idx::PREV_VIEW_PROJ),
             inv_view: Mat4::load(b, idx::INV_VIEW),
+            prev_proj: Mat4::load(b, idx::PREV_PROJ),
+            prev_inv_view: Mat4::load(b, idx::PREV_INV_VIEW),
         }
     }
 }

@@ -4,7 +4,7 @@
 //! BRDF-weighted ratio-estimator resolve over a neighbourhood, filtered importance sampling from
 //! the colour pyramid, and temporal accumulation with history clamping.
 
-use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, TRACE_HIZ, TRACE_LINEAR_CROSSING};
+use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::resolve::{
     edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit,
     sample_color, OUT_STRIDE,
@@ -12,6 +12,7 @@ use super::resolve::{
 use super::trace::{clampf, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_STRIDE};
 use crate::ndf;
 use crate::rng;
+use crate::vndf;
 use crate::vector::Vec3;
 use spirv_std::num_traits::Float;
 
@@ -169,41 +170,6 @@ pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
     (t, bb)
 }
 
-/// A uniform point of the unit disk by rejection from the square (integer PCG stream; no
-/// transcendentals, so both backends draw the same point). At most 16 tries, then the centre.
-#[inline]
-pub fn disk_point(rng: &mut rng::Pcg32) -> (f32, f32) {
-    let mut k = 0;
-    while k < 16 {
-        let x = rng.next_f32() * 2.0 - 1.0;
-        let y = rng.next_f32() * 2.0 - 1.0;
-        if x * x + y * y < 1.0 {
-            return (x, y);
-        }
-        k += 1;
-    }
-    (0.0, 0.0)
-}
-
-/// GGX VNDF sample (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", listing 1)
-/// for isotropic `alpha` in the local frame (v.z > 0), from a uniform disk point (d1, d2) (the
-/// polar map of listing 1 replaced by a disk point; same distribution). Returns the normal.
-pub fn sample_vndf_disk(v: Vec3, alpha: f32, d1: f32, d2: f32) -> Vec3 {
-    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
-    let lensq = vh.x * vh.x + vh.y * vh.y;
-    let t1 = if lensq > 0.0 { Vec3::new(-vh.y, vh.x, 0.0) / Float::sqrt(lensq) } else { Vec3::new(1.0, 0.0, 0.0) };
-    let t2 = vh.cross(t1);
-    let s = 0.5 * (1.0 + vh.z);
-    let h = 1.0 - d1 * d1;
-    let h = if h > 0.0 { Float::sqrt(h) } else { 0.0 };
-    let p2 = (1.0 - s) * h + s * d2;
-    let pz2 = 1.0 - d1 * d1 - p2 * p2;
-    let pz = if pz2 > 0.0 { Float::sqrt(pz2) } else { 0.0 };
-    let nh = t1 * d1 + t2 * p2 + vh * pz;
-    let nz = if nh.z > 0.0 { nh.z } else { 0.0 };
-    Vec3::new(alpha * nh.x, alpha * nh.y, nz).normalize()
-}
-
 /// GGX D for a half vector at cosine `c` to the normal (isotropic; Heitz 2014 eq. 85 through
 /// [`ndf::ggx_d`]).
 #[inline]
@@ -213,18 +179,43 @@ pub fn ggx_d_cos(c: f32, alpha: f32) -> f32 {
     ndf::ggx_d(Vec3::new(s, 0.0, c), alpha, alpha)
 }
 
-/// Solid-angle pdf of the reflected direction of a VNDF-sampled normal: G1(v) D(h) / (4 n.v)
-/// (Heitz 2018 eq. 2 times the reflection Jacobian 1 / (4 v.h)).
+/// One GGX reflection sample of `shader_core::vndf` in the local frame (normal +z, `wi` towards
+/// the eye) by the sampler `sampler` (`SAMPLER_*`), with Stachowiak 2015's importance-sampling
+/// bias: the u that maps to the lobe's radial/height coordinate is scaled into [0, keep)
+/// (Heitz 2018 listing 1: u1, disk radius r = sqrt(u1); Dupuy & Benyoub 2023 and Eto & Tokuyoshi
+/// 2023: u2, cap height z = (1 - u2)(1 + b) - b, z = 1 kept). At normal incidence both equal the
+/// NDF sampler's u in tan^2(theta_m) = alpha^2 u / (1 - u) (Walter et al. 2007 eq. 35), the
+/// coordinate Stachowiak truncates. The pdf is the untruncated sampler's (the truncated density is
+/// pdf / keep on its support, a factor the ratio estimator cancels).
 #[inline]
-pub fn vndf_reflection_pdf(nv: f32, nh: f32, alpha: f32) -> f32 {
-    let g1 = 1.0 / (1.0 + lambda_cos(nv, alpha));
-    g1 * ggx_d_cos(nh, alpha) / (4.0 * nv)
+pub fn sample_reflection(sampler: u32, wi: Vec3, alpha: f32, u1: f32, u2: f32, keep: f32) -> vndf::ReflectionSample {
+    if sampler == SAMPLER_CAPS {
+        vndf::sample_vndf_caps(wi, alpha, alpha, u1, u2 * keep)
+    } else if sampler == SAMPLER_BOUNDED {
+        vndf::sample_vndf_bounded(wi, alpha, alpha, u1, u2 * keep)
+    } else {
+        vndf::sample_vndf_heitz(wi, alpha, alpha, u1 * keep, u2)
+    }
+}
+
+/// Solid-angle density of the untruncated sampler `sampler` at the local reflection `wo`
+/// (`shader_core::vndf::pdf_vndf_heitz` / `pdf_vndf_caps` / `pdf_vndf_bounded`; Heitz 2018 eq. 2
+/// and Eto & Tokuyoshi 2023 eq. 8 times the reflection Jacobian 1 / (4 wi.wm)).
+#[inline]
+pub fn reflection_pdf(sampler: u32, wi: Vec3, wo: Vec3, alpha: f32) -> f32 {
+    if sampler == SAMPLER_CAPS {
+        vndf::pdf_vndf_caps(wi, wo, alpha, alpha)
+    } else if sampler == SAMPLER_BOUNDED {
+        vndf::pdf_vndf_bounded(wi, wo, alpha, alpha)
+    } else {
+        vndf::pdf_vndf_heitz(wi, wo, alpha, alpha)
+    }
 }
 
 /// The ray of sample `smp` of pixel (x, y): mirror for mirror pixels (pdf 0 marks a Dirac),
-/// otherwise a VNDF sample with its radial coordinate truncated by `sample_bias` (Stachowiak's
-/// importance-sampling bias: u1 in [0, 1 - bias]); directions below the surface are resampled
-/// (up to 4 tries). Returns (direction, pdf).
+/// otherwise a GGX reflection from the parameters' visible-normal sampler ([`sample_reflection`],
+/// u1, u2 from PCG32) with the importance-sampling bias `sample_bias`; directions below the
+/// surface are resampled (up to 4 tries). Returns (direction, pdf).
 pub fn sample_ray(p: &SsrParams, s: &Surface, x: u32, y: u32, smp: u32) -> (Vec3, f32) {
     if s.perceptual_roughness < MIRROR_ROUGHNESS {
         return (reflect(s.v, s.n), 0.0);
@@ -234,18 +225,17 @@ pub fn sample_ray(p: &SsrParams, s: &Surface, x: u32, y: u32, smp: u32) -> (Vec3
     let mut r = rng::Pcg32::new(seed, smp);
     let (t, b) = tangent_frame(s.n);
     let vl = Vec3::new(s.v.dot(t), s.v.dot(b), s.v.dot(s.n));
-    let shrink = Float::sqrt(1.0 - clampf(p.sample_bias, 0.0, 0.999));
+    let keep = 1.0 - clampf(p.sample_bias, 0.0, 0.999);
     let mut tries = 0;
     let mut l = reflect(s.v, s.n);
     let mut pdf = 0.0;
     while tries < 4 {
-        let (d1, d2) = disk_point(&mut r);
-        let m = sample_vndf_disk(vl, alpha, d1 * shrink, d2 * shrink);
-        let mw = t * m.x + b * m.y + s.n * m.z;
-        let cand = reflect(s.v, mw);
-        if cand.dot(s.n) > 0.0 {
-            l = cand;
-            pdf = vndf_reflection_pdf(vl.z, m.z, alpha);
+        let u1 = r.next_f32();
+        let u2 = r.next_f32();
+        let rs = sample_reflection(p.sampler, vl, alpha, u1, u2, keep);
+        if rs.wo.z > 0.0 && rs.pdf > 0.0 && rs.pdf < f32::INFINITY {
+            l = t * rs.wo.x + b * rs.wo.y + s.n * rs.wo.z;
+            pdf = rs.pdf;
             break;
         }
         tries += 1;
@@ -312,6 +302,7 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x
             let qy = y as i32 + dy;
             if qx >= 0 && qy >= 0 && (qx as u32) < p.width && (qy as u32) < p.height {
                 let q = qy as u32 * p.width + qx as u32;
+                let sq = load_surface(p, gbuf, qx as u32, qy as u32);
                 let mut k = 0;
                 while k < spp {
                     let r = load_ray(rays, ((q * spp + k) as usize) * RAY_STRIDE);
@@ -319,22 +310,14 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x
                     if !r.valid {
                         continue;
                     }
-                    let l = if r.hit { (hit_position(p, gbuf, r.hx, r.hy) - s.pos).normalize_or_zero() } else { r.dir };
-                    let nl = s.n.dot(l);
-                    if !(nl > 0.0) {
-                        continue;
-                    }
-                    let w = if mirror {
-                        1.0
+                    let (l, pdf) = if r.hit {
+                        let hp = hit_position(p, gbuf, r.hx, r.hy);
+                        ((hp - s.pos).normalize_or_zero(), ray_pdf_at_hit(p, &sq, hp, r.pdf))
                     } else {
-                        if !(r.pdf > 0.0) {
-                            continue;
-                        }
-                        let h = (s.v + l).normalize_or_zero();
-                        let g2 = 1.0 / (1.0 + lambda_cos(nv, alpha) + lambda_cos(nl, alpha));
-                        ggx_d_cos(s.n.dot(h), alpha) * g2 / (4.0 * nv) / r.pdf
+                        (r.dir, r.pdf)
                     };
-                    if !(w > 0.0 && w < f32::INFINITY) {
+                    let w = ray_weight(&s, alpha, nv, mirror, l, pdf);
+                    if !(w > 0.0) {
                         continue;
                     }
                     if r.hit {
@@ -372,19 +355,168 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x
     store4(out, ob, acc * k, acc_a * k);
 }
 
-/// Temporal accumulation of pixel (x, y): the history is fetched at the pixel's previous position
-/// (UV minus its motion vector; nearest texel), clamped to the min/max box of the current
-/// resolve's 3x3 neighbourhood (history rejection), and blended with weight
-/// max(1 / (n + 1), temporal_alpha); off-screen or empty history restarts at the current value.
-pub fn temporal_pixel(p: &SsrParams, gbuf: &[f32], current: &[f32], history: &[f32], x: u32, y: u32, out: &mut [f32], ob: usize) {
+/// The density a ray's hit was drawn with, for the resolve's weights: the generating pixel `sq`'s
+/// sampler density ([`reflection_pdf`]) at the direction from `sq` to the hit point `hit` as the
+/// resolve reconstructs it (pixel centre at its G-buffer depth), so that for a pixel's own ray
+/// f / pdf is evaluated at one direction (G2 / G1, Heitz 2018 eq. 19) instead of D(h) at the
+/// reconstructed direction over D(h) at the sampled one. With `FLAG_SAMPLED_PDF` (or for a
+/// mirror or invalid `sq`), the pdf stored at sampling time, `stored`.
+#[inline]
+pub fn ray_pdf_at_hit(p: &SsrParams, sq: &Surface, hit: Vec3, stored: f32) -> f32 {
+    if p.flags & FLAG_SAMPLED_PDF != 0 || !sq.valid || sq.perceptual_roughness < MIRROR_ROUGHNESS {
+        return stored;
+    }
+    let lq = (hit - sq.pos).normalize_or_zero();
+    let (t, b) = tangent_frame(sq.n);
+    let wi = Vec3::new(sq.v.dot(t), sq.v.dot(b), sq.v.dot(sq.n));
+    let wo = Vec3::new(lq.dot(t), lq.dot(b), lq.dot(sq.n));
+    let alpha_q = sq.perceptual_roughness * sq.perceptual_roughness;
+    reflection_pdf(p.sampler, wi, wo, alpha_q)
+}
+
+/// The BRDF weight of one ray in the resolve of surface `s` (Stachowiak 2015 ratio estimator):
+/// f(v, l) cos / pdf = D(h) G2(v, l) / (4 n.v) / pdf with F = 1, 1 for mirror pixels; 0 when the
+/// ray cannot contribute (l below the surface, no pdf, non-finite weight).
+#[inline]
+pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, mirror: bool, l: Vec3, pdf: f32) -> f32 {
+    let nl = s.n.dot(l);
+    if !(nl > 0.0) {
+        return 0.0;
+    }
+    if mirror {
+        return 1.0;
+    }
+    if !(pdf > 0.0) {
+        return 0.0;
+    }
+    let h = (s.v + l).normalize_or_zero();
+    let g2 = 1.0 / (1.0 + lambda_cos(nv, alpha) + lambda_cos(nl, alpha));
+    let w = ggx_d_cos(s.n.dot(h), alpha) * g2 / (4.0 * nv) / pdf;
+    if w > 0.0 && w < f32::INFINITY {
+        w
+    } else {
+        0.0
+    }
+}
+
+/// Reflection hit distance of pixel (x, y): the [`ray_weight`]-weighted mean of |hit - pos| over
+/// the pixel's own hitting rays (the neighbours' rays may see other objects at other distances;
+/// measured on the `animated` scene, docs/ssr.md); 0 when none hits or the pixel traced no ray.
+pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Surface, x: u32, y: u32) -> f32 {
+    let spp = p.samples_per_pixel;
+    let mirror = s.perceptual_roughness < MIRROR_ROUGHNESS;
+    let alpha = s.perceptual_roughness * s.perceptual_roughness;
+    let nv = s.n.dot(s.v);
+    let q = y * p.width + x;
+    let mut acc_d = 0.0;
+    let mut acc_w = 0.0;
+    let mut k = 0;
+    while k < spp {
+        let r = load_ray(rays, ((q * spp + k) as usize) * RAY_STRIDE);
+        k += 1;
+        if !(r.valid && r.hit) {
+            continue;
+        }
+        let hp = hit_position(p, gbuf, r.hx, r.hy);
+        let d = hp - s.pos;
+        let len = Float::sqrt(d.dot(d));
+        let l = if len > 0.0 { d / len } else { Vec3::ZERO };
+        let w = ray_weight(s, alpha, nv, mirror, l, ray_pdf_at_hit(p, s, hp, r.pdf));
+        acc_d += w * len;
+        acc_w += w;
+    }
+    if acc_w > 0.0 {
+        acc_d / acc_w
+    } else {
+        0.0
+    }
+}
+
+/// Previous-frame UV of the reflection seen at surface `s` whose reflected rays travel `dist`:
+/// the virtual image of the hit, `dist` beyond the surface along the eye ray (a planar mirror's
+/// image; Stachowiak 2015 temporal reprojection, "reflection motion vectors"), through the
+/// previous camera.
+#[inline]
+pub fn virtual_image_uv(p: &SsrParams, s: &Surface, dist: f32) -> (f32, f32) {
+    let len = Float::sqrt(s.pos.dot(s.pos));
+    let virt = s.pos + s.pos * (dist / len);
+    let world = p.inv_view.transform_point(virt);
+    let c = p.prev_view_proj.transform_point4(world);
+    if !(c.w > 0.0) {
+        return (-1.0, -1.0);
+    }
+    (c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5)
+}
+
+/// History texel of previous-frame UV (u, v) if it holds history that describes the same surface:
+/// on screen, accumulated (n >= 1) and, with rejection on, the previous frame's surface there lies
+/// on the current pixel's tangent plane (|n.(P_prev - P)| <= history_depth_tolerance * depth,
+/// world space) with a normal within history_normal_cos and a perceptual roughness within
+/// history_roughness_tolerance of `rough`. Returns the texel index or u32::MAX.
+#[allow(clippy::too_many_arguments)]
+pub fn history_texel(p: &SsrParams, prev_gbuf: &[f32], history: &[f32], n_world: Vec3, p_world: Vec3, depth: f32, rough: f32, u: f32, v: f32) -> u32 {
+    if !(u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0) {
+        return u32::MAX;
+    }
+    let hx = super::trace::floor_index(u * p.width as f32, p.width - 1);
+    let hy = super::trace::floor_index(v * p.height as f32, p.height - 1);
+    let t = hy * p.width + hx;
+    if !(history[(t as usize) * HISTORY_STRIDE + 4] >= 1.0) {
+        return u32::MAX;
+    }
+    let gb = (t as usize) * super::trace::GBUF_STRIDE;
+    if p.history_roughness_tolerance >= 0.0 && !((prev_gbuf[gb + 4] - rough).abs() <= p.history_roughness_tolerance) {
+        return u32::MAX;
+    }
+    if p.history_normal_cos > -1.0 {
+        let np = Vec3::new(prev_gbuf[gb + 1], prev_gbuf[gb + 2], prev_gbuf[gb + 3]);
+        if !(np.dot(n_world) >= p.history_normal_cos) {
+            return u32::MAX;
+        }
+    }
+    if p.history_depth_tolerance > 0.0 {
+        let zp = prev_gbuf[gb];
+        if !(zp > 0.0 && zp < f32::INFINITY) {
+            return u32::MAX;
+        }
+        let ndc_x = (hx as f32 + 0.5) / p.width as f32 * 2.0 - 1.0;
+        let ndc_y = 1.0 - (hy as f32 + 0.5) / p.height as f32 * 2.0;
+        let vp = Vec3::new((ndc_x - p.prev_proj.r0.z) * zp / p.prev_proj.r0.x, (ndc_y - p.prev_proj.r1.z) * zp / p.prev_proj.r1.y, zp);
+        let wp = p.prev_inv_view.transform_point(vp);
+        let dist = n_world.dot(wp - p_world);
+        if !(dist.abs() <= p.history_depth_tolerance * depth) {
+            return u32::MAX;
+        }
+    }
+    t
+}
+
+/// Temporal accumulation of pixel (x, y): the history is fetched (nearest texel) at the
+/// reflection's previous position - with `REPROJECT_HIT`, the virtual image of the reflected hit
+/// ([`virtual_image_uv`], hit distance from [`reflection_hit_distance`]) and, if that texel is
+/// rejected or the pixel's rays missed, the surface's (UV minus its motion vector); with
+/// `REPROJECT_SURFACE` only the latter. A texel is used if [`history_texel`] accepts it (depth /
+/// normal disocclusion test). The history is clamped to the min/max box of the current resolve's
+/// 3x3 neighbourhood and blended with weight max(1 / (n + 1), temporal_alpha); without usable
+/// history the pixel restarts at the current value.
+#[allow(clippy::too_many_arguments)]
+pub fn temporal_pixel(
+    p: &SsrParams,
+    gbuf: &[f32],
+    prev_gbuf: &[f32],
+    rays: &[f32],
+    current: &[f32],
+    history: &[f32],
+    x: u32,
+    y: u32,
+    out: &mut [f32],
+    ob: usize,
+) {
     let i = (y * p.width + x) as usize;
     let cb = i * OUT_STRIDE;
     let cur = Vec3::new(current[cb], current[cb + 1], current[cb + 2]);
     let cur_a = current[cb + 3];
-    let mv_u = gbuf[i * super::trace::GBUF_STRIDE + 6];
-    let mv_v = gbuf[i * super::trace::GBUF_STRIDE + 7];
-    let pu = (x as f32 + 0.5) / p.width as f32 - mv_u;
-    let pv = (y as f32 + 0.5) / p.height as f32 - mv_v;
+    let gi = i * super::trace::GBUF_STRIDE;
     let fresh = |out: &mut [f32]| {
         out[ob] = cur.x;
         out[ob + 1] = cur.y;
@@ -392,18 +524,56 @@ pub fn temporal_pixel(p: &SsrParams, gbuf: &[f32], current: &[f32], history: &[f
         out[ob + 3] = cur_a;
         out[ob + 4] = 1.0;
     };
-    if !(pu >= 0.0 && pu < 1.0 && pv >= 0.0 && pv < 1.0) {
+    let s = load_surface(p, gbuf, x, y);
+    if !(gbuf[gi] > 0.0 && gbuf[gi] < f32::INFINITY) {
         fresh(out);
         return;
     }
-    let hx = super::trace::floor_index(pu * p.width as f32, p.width - 1);
-    let hy = super::trace::floor_index(pv * p.height as f32, p.height - 1);
-    let hb = ((hy * p.width + hx) as usize) * HISTORY_STRIDE;
+    out[ob + 4] = 10.0;
+    let n_world = Vec3::new(gbuf[gi + 1], gbuf[gi + 2], gbuf[gi + 3]);
+    let p_world = p.inv_view.transform_point(s.pos);
+    out[ob + 4] = 11.0;
+    let mut t = u32::MAX;
+    if p.temporal_reprojection == REPROJECT_HIT && s.valid {
+        let dist = reflection_hit_distance(p, gbuf, rays, &s, x, y);
+        if dist > 0.0 {
+            let (u, v) = virtual_image_uv(p, &s, dist);
+            t = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, u, v);
+        }
+    }
+    if t == u32::MAX {
+        out[ob + 4] = 20.0;
+    let pu = (x as f32 + 0.5) / p.width as f32 - gbuf[gi + 6];
+        let pv = (y as f32 + 0.5) / p.height as f32 - gbuf[gi + 7];
+        out[ob + 4] = 21.0;
+        if !(pu >= 0.0 && pu < 1.0 && pv >= 0.0 && pv < 1.0) {
+            out[ob] = pu;
+            out[ob + 1] = pv;
+            out[ob + 2] = gbuf[gi + 6];
+            out[ob + 3] = gi as f32;
+            return;
+        }
+        out[ob + 4] = 22.0;
+        let hx = super::trace::floor_index(pu * p.width as f32, p.width - 1);
+        let hy = super::trace::floor_index(pv * p.height as f32, p.height - 1);
+        let tt = hy * p.width + hx;
+        out[ob + 4] = 23.0;
+        let nn = history[(tt as usize) * HISTORY_STRIDE + 4];
+        out[ob + 4] = 24.0;
+        out[ob + 3] = nn;
+        out[ob + 2] = prev_gbuf[(tt as usize) * super::trace::GBUF_STRIDE + 4];
+        out[ob + 4] = 25.0;
+        t = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, pu, pv);
+    }
+    out[ob + 4] = 12.0;
+    if t == u32::MAX {
+        fresh(out);
+        return;
+    }
+    out[ob + 4] = 13.0;
+    let hb = (t as usize) * HISTORY_STRIDE;
     let n = history[hb + 4];
-    if !(n >= 1.0) {
-        fresh(out);
-        return;
-    }
+    out[ob + 4] = 14.0;
     // Neighbourhood box of the current frame.
     let mut lo = cur;
     let mut hi = cur;
