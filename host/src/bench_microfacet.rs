@@ -509,6 +509,15 @@ fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu
     match gpu {
         Some(g) => {
             let _ = writeln!(s, "- {}", g.describe());
+            if let Backend::Gpu(gb) = g {
+                if gb.info.device_type == wgpu::DeviceType::Cpu {
+                    let _ = writeln!(
+                        s,
+                        "- **The Vulkan adapter is a software rasterizer (lavapipe) running on the same CPU cores**: its column \
+                         is not a GPU measurement (see `docs/microfacet.md`)."
+                    );
+                }
+            }
         }
         None => {
             let _ = writeln!(s, "- GPU backend: none (run with a Vulkan adapter for the GPU column)");

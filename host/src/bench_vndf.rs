@@ -43,7 +43,7 @@ pub struct VndfArgs {
     #[arg(long, default_value_t = 1 << 20)]
     pub samples: usize,
     /// Rows per timed run (mixing every grid point).
-    #[arg(long, default_value_t = 1 << 22)]
+    #[arg(long, default_value_t = 1 << 20)]
     pub rows: usize,
     /// Timed runs per method and backend (after one warm-up); the median is reported.
     #[arg(long, default_value_t = 5)]
@@ -182,16 +182,24 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Median samples per second of function `id` over `table` on `backend`, and the timing source.
-fn time_backend(backend: &Backend, id: u32, table: &[f32], repeats: usize) -> Result<(f64, String)> {
+/// Median samples per second of each function of `ids` over `table` on `backend`, and the timing
+/// source. The functions take turns (one warm-up round, then `repeats` timed rounds), so a change
+/// in the machine's load during the measurement affects every method alike.
+fn time_backend(backend: &Backend, ids: &[u32], table: &[f32], repeats: usize) -> Result<(Vec<f64>, String)> {
     let rows = table.len() / 7;
-    let (_, warm) = backend.eval_table(id, table, 7, 4, rows)?;
-    let mut secs = Vec::with_capacity(repeats);
-    for _ in 0..repeats {
-        let (_, t) = backend.eval_table(id, table, 7, 4, rows)?;
-        secs.push(t.seconds);
+    let mut source = String::new();
+    for &id in ids {
+        let (_, warm) = backend.eval_table(id, table, 7, 4, rows)?;
+        source = warm.source.to_string();
     }
-    Ok((rows as f64 / median(secs), warm.source.to_string()))
+    let mut secs = vec![Vec::with_capacity(repeats); ids.len()];
+    for _ in 0..repeats {
+        for (k, &id) in ids.iter().enumerate() {
+            let (_, t) = backend.eval_table(id, table, 7, 4, rows)?;
+            secs[k].push(t.seconds);
+        }
+    }
+    Ok((secs.into_iter().map(|s| rows as f64 / median(s)).collect(), source))
 }
 
 /// Everything measured for one method.
@@ -237,7 +245,6 @@ pub fn run(a: &VndfArgs) -> Result<()> {
         timing_table.extend_from_slice(&[wi[0], wi[1], wi[2], p.alpha, p.alpha, rng.next_f32(), rng.next_f32()]);
     }
     let mut results = Vec::new();
-    let mut gpu_source = None;
     for &(name, label) in &METHODS {
         let f = find_function(name)?;
         let t0 = std::time::Instant::now();
@@ -249,22 +256,29 @@ pub fn run(a: &VndfArgs) -> Result<()> {
             anyhow::ensure!(s.bad == 0, "{name} alpha {} theta {}: {} invalid samples", p.alpha, p.theta_deg, s.bad);
             per_point.push(s);
         }
-        let (cpu_rate, _) = time_backend(&cpu, f.id, &timing_table, a.repeats)?;
-        let gpu_rate = match &gpu {
-            Some(g) => {
-                let (r, src) = time_backend(g, f.id, &timing_table, a.repeats).with_context(|| format!("timing {name} on the GPU"))?;
-                gpu_source = Some(src);
-                Some(r)
-            }
-            None => None,
-        };
+        eprintln!("{name}: statistics in {:.1} s", t0.elapsed().as_secs_f64());
+        results.push(MethodResult { name, label, stats: per_point, cpu_rate: 0.0, gpu_rate: None });
+    }
+    let ids = METHODS.iter().map(|(name, _)| find_function(name).map(|f| f.id)).collect::<Result<Vec<u32>>>()?;
+    let (cpu_rates, _) = time_backend(&cpu, &ids, &timing_table, a.repeats)?;
+    let mut gpu_source = None;
+    let gpu_rates = match &gpu {
+        Some(g) => {
+            let (r, src) = time_backend(g, &ids, &timing_table, a.repeats).context("timing on the GPU")?;
+            gpu_source = Some(src);
+            Some(r)
+        }
+        None => None,
+    };
+    for (k, r) in results.iter_mut().enumerate() {
+        r.cpu_rate = cpu_rates[k];
+        r.gpu_rate = gpu_rates.as_ref().map(|g| g[k]);
         eprintln!(
-            "{name}: {:.1} s; {:.1} Msamples/s CPU, {} GPU",
-            t0.elapsed().as_secs_f64(),
-            cpu_rate / 1e6,
-            gpu_rate.map_or("n/a".to_string(), |r| format!("{:.1} Msamples/s", r / 1e6))
+            "{}: {:.2} Msamples/s CPU, {} GPU",
+            r.name,
+            r.cpu_rate / 1e6,
+            r.gpu_rate.map_or("n/a".to_string(), |g| format!("{:.3} Msamples/s", g / 1e6))
         );
-        results.push(MethodResult { name, label, stats: per_point, cpu_rate, gpu_rate });
     }
     let load = format!("{load_start} at the start, {} at the end", load_average());
     let md = markdown(a, &pts, &results, &cpu, gpu.as_ref(), gpu_source.as_deref(), &load);
@@ -327,14 +341,14 @@ fn markdown(a: &VndfArgs, pts: &[Point], res: &[MethodResult], cpu: &Backend, gp
     );
     let _ = writeln!(
         s,
-        "- CPU backend: {} on {} ({} logical CPUs; 1-minute load average {load})",
+        "- CPU: {} on {} ({} logical CPUs; 1-minute load average {load})",
         cpu.describe(),
         cpu_model(),
         std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0)
     );
     match gpu {
         Some(g) => {
-            let _ = writeln!(s, "- GPU backend: {} (times: {})", g.describe(), gpu_source.unwrap_or("?"));
+            let _ = writeln!(s, "- GPU: {} (kernel times by {})", g.describe(), gpu_source.unwrap_or("?"));
         }
         None => {
             let _ = writeln!(s, "- GPU backend: none (run with a Vulkan adapter for the GPU columns)");
@@ -363,17 +377,24 @@ fn markdown(a: &VndfArgs, pts: &[Point], res: &[MethodResult], cpu: &Backend, gp
     );
 
     let _ = writeln!(s, "## Cost\n");
-    let _ = writeln!(s, "Median of {} runs of {} rows (every grid point in turn) after one warm-up.\n", a.repeats, a.rows);
+    let _ = writeln!(
+        s,
+        "Median of {} runs of {} rows (every grid point in turn) after one warm-up; the four kernels take turns, so a change \
+         of load during the measurement affects them alike. The GPU backend is whatever `--device` found (lavapipe is Vulkan \
+         on the CPU, not a GPU).\n",
+        a.repeats,
+        a.rows
+    );
     let _ = writeln!(s, "| method | kernel | CPU Msamples/s | GPU Msamples/s |");
     let _ = writeln!(s, "| --- | --- | ---: | ---: |");
     for r in res {
         let _ = writeln!(
             s,
-            "| {} | `{}` | {:.1} | {} |",
+            "| {} | `{}` | {:.2} | {} |",
             r.label,
             r.name,
             r.cpu_rate / 1e6,
-            r.gpu_rate.map_or("n/a".to_string(), |g| format!("{:.1}", g / 1e6))
+            r.gpu_rate.map_or("n/a".to_string(), |g| format!("{:.3}", g / 1e6))
         );
     }
     let _ = writeln!(s);
@@ -411,6 +432,31 @@ fn markdown(a: &VndfArgs, pts: &[Point], res: &[MethodResult], cpu: &Backend, gp
             rel.iter().copied().fold(f64::INFINITY, f64::min),
             rel.iter().copied().fold(0.0, f64::max),
             100.0 * r.stats.iter().map(|x| x.below).sum::<f64>() / pts.len() as f64
+        );
+    }
+    // Which method reaches the lowest error at equal time, per backend.
+    let backends: Vec<(&str, Box<dyn Fn(&MethodResult) -> Option<f64>>)> =
+        vec![("CPU", Box::new(|r: &MethodResult| Some(r.cpu_rate))), ("GPU", Box::new(|r: &MethodResult| r.gpu_rate))];
+    for (bname, rate) in &backends {
+        if res.iter().any(|r| rate(r).is_none()) {
+            continue;
+        }
+        let mut wins = vec![0usize; res.len()];
+        for k in 0..pts.len() {
+            let alb = reference_albedo(res, k, a.samples);
+            let best = (0..res.len())
+                .min_by(|&x, &y| {
+                    let ex = equal_time_error(&res[x].stats[k], rate(&res[x]).unwrap(), budget, alb);
+                    let ey = equal_time_error(&res[y].stats[k], rate(&res[y]).unwrap(), budget, alb);
+                    ex.partial_cmp(&ey).unwrap()
+                })
+                .unwrap();
+            wins[best] += 1;
+        }
+        let _ = writeln!(
+            s,
+            "- Lowest error at equal time on the {bname} backend (grid points won): {}.",
+            res.iter().zip(&wins).map(|(r, w)| format!("{} {w}", r.label)).collect::<Vec<_>>().join(", ")
         );
     }
     // Unbiasedness check: every method's mean agrees with the reference.

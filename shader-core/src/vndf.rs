@@ -1,13 +1,11 @@
 //! Sampling the GGX distribution of visible normals (VNDF), D_w(wm) = G1(w) max(0, w.wm) D(wm) / w.z
 //! (Heitz 2014, "Understanding the Masking-Shadowing Function", eq. 38).
 //!
-//! This module holds one sampler, Heitz 2018 ("Sampling the GGX Distribution of Visible Normals",
-//! JCGT 7(4), listing 1) in the form of PBRT-v4 `TrowbridgeReitzDistribution::Sample_wm`, and
-//! its density. It is the place for the other VNDF samplers (Dupuy & Benyoub 2023 spherical caps,
-//! Eto & Tokuyoshi 2023 bounded VNDF, ...): add them beside it with the same signature
-//! `(w, alpha_x, alpha_y, u0, u1) -> wm` and a `*_pdf` that matches, so the BxDFs can switch.
+//! At the top: the BxDFs' normal sampler, Heitz 2018 ("Sampling the GGX Distribution of Visible
+//! Normals", JCGT 7(4), listing 1) in the form of PBRT-v4 `TrowbridgeReitzDistribution::Sample_wm`
+//! (two-sided, `(w, alpha_x, alpha_y, u0, u1) -> wm`), and its density.
 //!
-//! Conventions: local frame (normal = +z); `w` is a unit direction pointing away from the surface,
+//! Conventions of those two: local frame (normal = +z); `w` is a unit direction pointing away from the surface,
 //! either hemisphere (a `w` below the surface samples the visible normals of `-w`: PBRT's two-sided
 //! microsurface); alpha_x, alpha_y > 0 (the smooth case alpha < 1e-3 is handled by the BxDFs as a
 //! Dirac delta and never sampled here). The result is a unit normal with wm.z >= 1e-6 scale.

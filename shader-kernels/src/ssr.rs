@@ -198,12 +198,27 @@ pub fn sssr_temporal(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] prev_gbuf: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hit_distance: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] current: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] history: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = SsrParams::load(consts);
-    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, rays, current, history, i % p.width, i / p.width, out, (i as usize) * stochastic::HISTORY_STRIDE);
+    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, hit_distance, current, history, i % p.width, i / p.width, out, (i as usize) * stochastic::HISTORY_STRIDE);
+}
+
+/// Stochastic SSR, reflection hit distance per pixel (the temporal pass's virtual-image input).
+#[spirv(compute(threads(64)))]
+pub fn sssr_hit_distance(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] out: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    out[i as usize] = stochastic::hit_distance_pixel(&p, gbuf, rays, i % p.width, i / p.width);
 }

@@ -77,10 +77,13 @@ fn sssr_passes_match_gpu_bit_for_bit() {
         assert_same(&format!("{tag} resolve"), 4, &res, &q.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap());
         // Temporal: a history that is the resolve itself shifted by a frame count, both reprojections.
         let hist: Vec<f32> = res.chunks_exact(4).flat_map(|c| [c[0] * 0.5, c[1], c[2] * 2.0, c[3], 3.0]).collect();
+        let dist = c.sssr_hit_distance(&consts, &gbuf, &rays).unwrap();
+        assert_same(&format!("{tag} hit distance"), 1, &dist, &q.sssr_hit_distance(&consts, &gbuf, &rays).unwrap());
+        assert!(dist.iter().any(|&d| d > 0.0), "{tag}: no hit distance");
         for mode in [REPROJECT_HIT, REPROJECT_SURFACE] {
             consts[idx::TEMPORAL_REPROJECTION] = f32::from_bits(mode);
-            let tc = c.sssr_temporal(&consts, &gbuf, &prev, &rays, &res, &hist).unwrap();
-            let tg = q.sssr_temporal(&consts, &gbuf, &prev, &rays, &res, &hist).unwrap();
+            let tc = c.sssr_temporal(&consts, &gbuf, &prev, &dist, &res, &hist).unwrap();
+            let tg = q.sssr_temporal(&consts, &gbuf, &prev, &dist, &res, &hist).unwrap();
             assert_same(&format!("{tag} temporal (reprojection {mode})"), HISTORY_STRIDE, &tc, &tg);
         }
     }

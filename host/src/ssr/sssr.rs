@@ -234,10 +234,28 @@ impl Runner<'_> {
         }
     }
 
+    /// Reflection hit distance per pixel (0 where no own ray hit).
+    pub fn sssr_hit_distance(&mut self, consts: &[f32], gbuf: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let n = (p.width * p.height) as usize;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("temporal", || {
+                let mut out = vec![0.0f32; n];
+                out.par_iter_mut().enumerate().for_each(|(i, o)| {
+                    let i = i as u32;
+                    *o = stochastic::hit_distance_pixel(&p, gbuf, rays, i % p.width, i / p.width);
+                });
+                out
+            })),
+            Backend::Gpu(_) => self.gpu_pass("temporal", "ssr::sssr_hit_distance", n as u32, &[], &[consts, gbuf, rays], n, None),
+        }
+    }
+
     /// Temporal accumulation: new history (`HISTORY_STRIDE` per pixel). `prev_gbuf` is the packed
-    /// G-buffer of the frame the history belongs to, `rays` this frame's ray records.
+    /// G-buffer of the frame the history belongs to, `hit_distance` this frame's
+    /// [`Runner::sssr_hit_distance`].
     #[allow(clippy::too_many_arguments)]
-    pub fn sssr_temporal(&mut self, consts: &[f32], gbuf: &[f32], prev_gbuf: &[f32], rays: &[f32], current: &[f32], history: &[f32]) -> Result<Vec<f32>> {
+    pub fn sssr_temporal(&mut self, consts: &[f32], gbuf: &[f32], prev_gbuf: &[f32], hit_distance: &[f32], current: &[f32], history: &[f32]) -> Result<Vec<f32>> {
         let p = SsrParams::load(consts);
         let n = (p.width * p.height) as usize;
         anyhow::ensure!(prev_gbuf.len() == gbuf.len(), "previous G-buffer has {} values, expected {}", prev_gbuf.len(), gbuf.len());
@@ -246,7 +264,7 @@ impl Runner<'_> {
                 let mut out = vec![0.0f32; n * HISTORY_STRIDE];
                 out.par_chunks_mut(HISTORY_STRIDE).enumerate().for_each(|(i, o)| {
                     let i = i as u32;
-                    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, rays, current, history, i % p.width, i / p.width, o, 0);
+                    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, hit_distance, current, history, i % p.width, i / p.width, o, 0);
                 });
                 out
             })),
@@ -255,7 +273,7 @@ impl Runner<'_> {
                 "ssr::sssr_temporal",
                 n as u32,
                 &[],
-                &[consts, gbuf, prev_gbuf, rays, current, history],
+                &[consts, gbuf, prev_gbuf, hit_distance, current, history],
                 n * HISTORY_STRIDE,
                 None,
             ),
@@ -337,7 +355,8 @@ pub fn run_sssr(
             let packed = g.packed();
             let prev = prev_gbuf.take().unwrap_or_else(|| packed.clone());
             let mut r = Runner::new(backend);
-            let out = r.sssr_temporal(&consts, &packed, &prev, &res.rays, &res.reflection, &hist)?;
+            let dist = r.sssr_hit_distance(&consts, &packed, &res.rays)?;
+            let out = r.sssr_temporal(&consts, &packed, &prev, &dist, &res.reflection, &hist)?;
             prev_gbuf = Some(packed);
             res.times.extend(r.times);
             res.reflection = out.chunks_exact(HISTORY_STRIDE).flat_map(|c| [c[0], c[1], c[2], c[3]]).collect();

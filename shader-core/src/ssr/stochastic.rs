@@ -414,19 +414,28 @@ pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Su
     while k < spp {
         let r = load_ray(rays, ((q * spp + k) as usize) * RAY_STRIDE);
         k += 1;
-        if !(r.valid && r.hit) {
-            continue;
+        if r.valid && r.hit {
+            let hp = hit_position(p, gbuf, r.hx, r.hy);
+            let d = hp - s.pos;
+            let len = Float::sqrt(d.dot(d));
+            let l = if len > 0.0 { d / len } else { Vec3::ZERO };
+            let w = ray_weight(s, alpha, nv, mirror, l, ray_pdf_at_hit(p, s, hp, r.pdf));
+            acc_d += w * len;
+            acc_w += w;
         }
-        let hp = hit_position(p, gbuf, r.hx, r.hy);
-        let d = hp - s.pos;
-        let len = Float::sqrt(d.dot(d));
-        let l = if len > 0.0 { d / len } else { Vec3::ZERO };
-        let w = ray_weight(s, alpha, nv, mirror, l, ray_pdf_at_hit(p, s, hp, r.pdf));
-        acc_d += w * len;
-        acc_w += w;
     }
     if acc_w > 0.0 {
         acc_d / acc_w
+    } else {
+        0.0
+    }
+}
+
+/// The hit-distance pass for pixel (x, y): [`reflection_hit_distance`] for valid surfaces, else 0.
+pub fn hit_distance_pixel(p: &SsrParams, gbuf: &[f32], rays: &[f32], x: u32, y: u32) -> f32 {
+    let s = load_surface(p, gbuf, x, y);
+    if s.valid {
+        reflection_hit_distance(p, gbuf, rays, &s, x, y)
     } else {
         0.0
     }
@@ -442,69 +451,64 @@ pub fn virtual_image_uv(p: &SsrParams, s: &Surface, dist: f32) -> (f32, f32) {
     let virt = s.pos + s.pos * (dist / len);
     let world = p.inv_view.transform_point(virt);
     let c = p.prev_view_proj.transform_point4(world);
-    if !(c.w > 0.0) {
-        return (-1.0, -1.0);
+    if c.w > 0.0 {
+        (c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5)
+    } else {
+        (-1.0, -1.0)
     }
-    (c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5)
 }
 
-/// History texel of previous-frame UV (u, v) if it holds history that describes the same surface:
-/// on screen, accumulated (n >= 1) and, with rejection on, the previous frame's surface there lies
-/// on the current pixel's tangent plane (|n.(P_prev - P)| <= history_depth_tolerance * depth,
-/// world space) with a normal within history_normal_cos and a perceptual roughness within
-/// history_roughness_tolerance of `rough`. Returns the texel index or u32::MAX.
+/// [`history_texel`]'s answer when there is no usable history.
+pub const NO_HISTORY: u32 = u32::MAX;
+
+/// History texel of previous-frame UV (u, v) if it holds history that describes the same
+/// surface: on screen, accumulated (n >= 1) and, with rejection on, the previous frame's surface
+/// there lies on the current pixel's tangent plane (|n.(P_prev - P)| <= history_depth_tolerance *
+/// depth, world space) with a normal within history_normal_cos and a perceptual roughness within
+/// history_roughness_tolerance of `rough`; otherwise [`NO_HISTORY`]. Written without early
+/// returns (every test evaluated, the texel index clamped).
 #[allow(clippy::too_many_arguments)]
 pub fn history_texel(p: &SsrParams, prev_gbuf: &[f32], history: &[f32], n_world: Vec3, p_world: Vec3, depth: f32, rough: f32, u: f32, v: f32) -> u32 {
-    if !(u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0) {
-        return u32::MAX;
-    }
+    let on_screen = u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0;
     let hx = super::trace::floor_index(u * p.width as f32, p.width - 1);
     let hy = super::trace::floor_index(v * p.height as f32, p.height - 1);
     let t = hy * p.width + hx;
-    if !(history[(t as usize) * HISTORY_STRIDE + 4] >= 1.0) {
-        return u32::MAX;
-    }
+    let accumulated = history[(t as usize) * HISTORY_STRIDE + 4] >= 1.0;
     let gb = (t as usize) * super::trace::GBUF_STRIDE;
-    if p.history_roughness_tolerance >= 0.0 && !((prev_gbuf[gb + 4] - rough).abs() <= p.history_roughness_tolerance) {
-        return u32::MAX;
+    let zp = prev_gbuf[gb];
+    let np = Vec3::new(prev_gbuf[gb + 1], prev_gbuf[gb + 2], prev_gbuf[gb + 3]);
+    let rp = prev_gbuf[gb + 4];
+    let rough_ok = !(p.history_roughness_tolerance >= 0.0) || (rp - rough).abs() <= p.history_roughness_tolerance;
+    let normal_ok = !(p.history_normal_cos > -1.0) || np.dot(n_world) >= p.history_normal_cos;
+    let zp_ok = zp > 0.0 && zp < f32::INFINITY;
+    let z = if zp_ok { zp } else { 1.0 };
+    let ndc_x = (hx as f32 + 0.5) / p.width as f32 * 2.0 - 1.0;
+    let ndc_y = 1.0 - (hy as f32 + 0.5) / p.height as f32 * 2.0;
+    let vp = Vec3::new((ndc_x - p.prev_proj.r0.z) * z / p.prev_proj.r0.x, (ndc_y - p.prev_proj.r1.z) * z / p.prev_proj.r1.y, z);
+    let wp = p.prev_inv_view.transform_point(vp);
+    let plane = n_world.dot(wp - p_world);
+    let depth_ok = !(p.history_depth_tolerance > 0.0) || (zp_ok && plane.abs() <= p.history_depth_tolerance * depth);
+    if on_screen && accumulated && rough_ok && normal_ok && depth_ok {
+        t
+    } else {
+        NO_HISTORY
     }
-    if p.history_normal_cos > -1.0 {
-        let np = Vec3::new(prev_gbuf[gb + 1], prev_gbuf[gb + 2], prev_gbuf[gb + 3]);
-        if !(np.dot(n_world) >= p.history_normal_cos) {
-            return u32::MAX;
-        }
-    }
-    if p.history_depth_tolerance > 0.0 {
-        let zp = prev_gbuf[gb];
-        if !(zp > 0.0 && zp < f32::INFINITY) {
-            return u32::MAX;
-        }
-        let ndc_x = (hx as f32 + 0.5) / p.width as f32 * 2.0 - 1.0;
-        let ndc_y = 1.0 - (hy as f32 + 0.5) / p.height as f32 * 2.0;
-        let vp = Vec3::new((ndc_x - p.prev_proj.r0.z) * zp / p.prev_proj.r0.x, (ndc_y - p.prev_proj.r1.z) * zp / p.prev_proj.r1.y, zp);
-        let wp = p.prev_inv_view.transform_point(vp);
-        let dist = n_world.dot(wp - p_world);
-        if !(dist.abs() <= p.history_depth_tolerance * depth) {
-            return u32::MAX;
-        }
-    }
-    t
 }
 
 /// Temporal accumulation of pixel (x, y): the history is fetched (nearest texel) at the
 /// reflection's previous position - with `REPROJECT_HIT`, the virtual image of the reflected hit
-/// ([`virtual_image_uv`], hit distance from [`reflection_hit_distance`]) and, if that texel is
+/// ([`virtual_image_uv`], hit distance `hit_distance[pixel]` from [`hit_distance_pixel`]) and, if that texel is
 /// rejected or the pixel's rays missed, the surface's (UV minus its motion vector); with
 /// `REPROJECT_SURFACE` only the latter. A texel is used if [`history_texel`] accepts it (depth /
-/// normal disocclusion test). The history is clamped to the min/max box of the current resolve's
-/// 3x3 neighbourhood and blended with weight max(1 / (n + 1), temporal_alpha); without usable
-/// history the pixel restarts at the current value.
+/// normal / roughness disocclusion test). The history is clamped to the min/max box of the current
+/// resolve's 3x3 neighbourhood and blended with weight max(1 / (n + 1), temporal_alpha); without
+/// usable history (or on sky) the pixel restarts at the current value.
 #[allow(clippy::too_many_arguments)]
 pub fn temporal_pixel(
     p: &SsrParams,
     gbuf: &[f32],
     prev_gbuf: &[f32],
-    rays: &[f32],
+    hit_distance: &[f32],
     current: &[f32],
     history: &[f32],
     x: u32,
@@ -517,63 +521,32 @@ pub fn temporal_pixel(
     let cur = Vec3::new(current[cb], current[cb + 1], current[cb + 2]);
     let cur_a = current[cb + 3];
     let gi = i * super::trace::GBUF_STRIDE;
-    let fresh = |out: &mut [f32]| {
+    let s = load_surface(p, gbuf, x, y);
+    let geometry = gbuf[gi] > 0.0 && gbuf[gi] < f32::INFINITY;
+    let n_world = Vec3::new(gbuf[gi + 1], gbuf[gi + 2], gbuf[gi + 3]);
+    let p_world = p.inv_view.transform_point(s.pos);
+    // Both candidates are evaluated unconditionally and selected afterwards (straight-line code).
+    // The hit distance comes from its own pass ([`hit_distance_pixel`]): computed here, the
+    // SPIR-V build of this pass lost the code after the ray loop on lavapipe (docs/ssr.md).
+    let dist = hit_distance[i];
+    let (hu, hv) = virtual_image_uv(p, &s, dist);
+    let th = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, hu, hv);
+    let pu = (x as f32 + 0.5) / p.width as f32 - gbuf[gi + 6];
+    let pv = (y as f32 + 0.5) / p.height as f32 - gbuf[gi + 7];
+    let ts = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, pu, pv);
+    let use_hit = p.temporal_reprojection == REPROJECT_HIT && s.valid && dist > 0.0 && th != NO_HISTORY;
+    let found = geometry && (use_hit || ts != NO_HISTORY);
+    let t = if use_hit { th } else { ts };
+    if !found {
         out[ob] = cur.x;
         out[ob + 1] = cur.y;
         out[ob + 2] = cur.z;
         out[ob + 3] = cur_a;
         out[ob + 4] = 1.0;
-    };
-    let s = load_surface(p, gbuf, x, y);
-    if !(gbuf[gi] > 0.0 && gbuf[gi] < f32::INFINITY) {
-        fresh(out);
         return;
     }
-    out[ob + 4] = 10.0;
-    let n_world = Vec3::new(gbuf[gi + 1], gbuf[gi + 2], gbuf[gi + 3]);
-    let p_world = p.inv_view.transform_point(s.pos);
-    out[ob + 4] = 11.0;
-    let mut t = u32::MAX;
-    if p.temporal_reprojection == REPROJECT_HIT && s.valid {
-        let dist = reflection_hit_distance(p, gbuf, rays, &s, x, y);
-        if dist > 0.0 {
-            let (u, v) = virtual_image_uv(p, &s, dist);
-            t = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, u, v);
-        }
-    }
-    if t == u32::MAX {
-        out[ob + 4] = 20.0;
-    let pu = (x as f32 + 0.5) / p.width as f32 - gbuf[gi + 6];
-        let pv = (y as f32 + 0.5) / p.height as f32 - gbuf[gi + 7];
-        out[ob + 4] = 21.0;
-        if !(pu >= 0.0 && pu < 1.0 && pv >= 0.0 && pv < 1.0) {
-            out[ob] = pu;
-            out[ob + 1] = pv;
-            out[ob + 2] = gbuf[gi + 6];
-            out[ob + 3] = gi as f32;
-            return;
-        }
-        out[ob + 4] = 22.0;
-        let hx = super::trace::floor_index(pu * p.width as f32, p.width - 1);
-        let hy = super::trace::floor_index(pv * p.height as f32, p.height - 1);
-        let tt = hy * p.width + hx;
-        out[ob + 4] = 23.0;
-        let nn = history[(tt as usize) * HISTORY_STRIDE + 4];
-        out[ob + 4] = 24.0;
-        out[ob + 3] = nn;
-        out[ob + 2] = prev_gbuf[(tt as usize) * super::trace::GBUF_STRIDE + 4];
-        out[ob + 4] = 25.0;
-        t = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, pu, pv);
-    }
-    out[ob + 4] = 12.0;
-    if t == u32::MAX {
-        fresh(out);
-        return;
-    }
-    out[ob + 4] = 13.0;
     let hb = (t as usize) * HISTORY_STRIDE;
     let n = history[hb + 4];
-    out[ob + 4] = 14.0;
     // Neighbourhood box of the current frame.
     let mut lo = cur;
     let mut hi = cur;
