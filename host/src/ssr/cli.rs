@@ -88,8 +88,9 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value = "heitz")]
     pub sampler: VndfSampler,
     /// SSSR temporal reprojection of the history: through the reflected hit (virtual image) or
-    /// the surface's motion vector.
-    #[arg(long, value_enum, default_value = "hit")]
+    /// the surface's motion vector (default: hit-based is not yet bit-exact on the GPU backend,
+    /// docs/ssr.md).
+    #[arg(long, value_enum, default_value = "surface")]
     pub reprojection: Reprojection,
     /// SSSR: disable the depth/normal history rejection (the neighbourhood clamp stays).
     #[arg(long)]

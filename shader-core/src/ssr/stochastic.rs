@@ -450,7 +450,16 @@ pub fn virtual_image_uv(p: &SsrParams, s: &Surface, dist: f32) -> (f32, f32) {
     let len = Float::sqrt(s.pos.dot(s.pos));
     let virt = s.pos + s.pos * (dist / len);
     let world = p.inv_view.transform_point(virt);
-    let c = p.prev_view_proj.transform_point4(world);
+    // World to the previous view through the rigid inverse of prev_inv_view = [R | t]:
+    // R^T (world - t) (the columns of R dotted with world - t).
+    let m = &p.prev_inv_view;
+    let d = Vec3::new(world.x - m.r0.w, world.y - m.r1.w, world.z - m.r2.w);
+    let vp = Vec3::new(
+        m.r0.x * d.x + m.r1.x * d.y + m.r2.x * d.z,
+        m.r0.y * d.x + m.r1.y * d.y + m.r2.y * d.z,
+        m.r0.z * d.x + m.r1.z * d.y + m.r2.z * d.z,
+    );
+    let c = p.prev_proj.transform_point4(vp);
     if c.w > 0.0 {
         (c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5)
     } else {
@@ -528,7 +537,7 @@ pub fn temporal_pixel(
     // Both candidates are evaluated unconditionally and selected afterwards (straight-line code).
     // The hit distance comes from its own pass ([`hit_distance_pixel`]): computed here, the
     // SPIR-V build of this pass lost the code after the ray loop on lavapipe (docs/ssr.md).
-    let dist = hit_distance[i];
+    let dist = if p.temporal_reprojection == REPROJECT_HIT { hit_distance[i] } else { 0.0 };
     let (hu, hv) = virtual_image_uv(p, &s, dist);
     let th = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, hu, hv);
     let pu = (x as f32 + 0.5) / p.width as f32 - gbuf[gi + 6];
