@@ -47,6 +47,18 @@ impl Backend {
         }
     }
 
+    /// The GPU backend for a benchmark's GPU columns: `None` for `--device cpu` and for `auto`
+    /// without an adapter, an error for `--device gpu` without one.
+    pub fn gpu_column(choice: DeviceChoice) -> Result<Option<Backend>> {
+        match choice {
+            DeviceChoice::Cpu => Ok(None),
+            DeviceChoice::Gpu | DeviceChoice::Auto => match Backend::select(choice)? {
+                b @ Backend::Gpu(_) => Ok(Some(b)),
+                Backend::Cpu => Ok(None),
+            },
+        }
+    }
+
     /// A one-line description of the backend.
     pub fn describe(&self) -> String {
         match self {

@@ -30,6 +30,7 @@
 //! slow a run down, so the minimum time is the least disturbed estimate; the median is printed too). The fp16 forms have no kernel (the kernels are
 //! f32): they are evaluated on the host for their error only.
 
+use crate::timing::{cpu_model, load_average};
 use crate::backend::{Backend, DeviceChoice};
 use crate::eval::find_function;
 use crate::ggx_fp16;
@@ -373,14 +374,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     anyhow::ensure!(a.grid >= 4, "--grid must be at least 4");
     anyhow::ensure!(a.rows >= 1024, "--rows must be at least 1024");
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
-    let gpu = match a.device {
-        DeviceChoice::Cpu => None,
-        DeviceChoice::Gpu => Some(Backend::select(DeviceChoice::Gpu)?),
-        DeviceChoice::Auto => match Backend::select(DeviceChoice::Auto)? {
-            b @ Backend::Gpu(_) => Some(b),
-            Backend::Cpu => None,
-        },
-    };
+    let gpu = Backend::gpu_column(a.device)?;
     let cpu = Backend::Cpu;
     let load_start = load_average();
     eprintln!("{}", cpu.describe());
@@ -465,17 +459,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     Ok(())
 }
 
-/// The 1-minute load average (other processes competing for the cores skew the timings).
-fn load_average() -> String {
-    std::fs::read_to_string("/proc/loadavg").ok().and_then(|s| s.split_whitespace().next().map(str::to_string)).unwrap_or_else(|| "?".into())
-}
 
-fn cpu_model() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
-        .unwrap_or_else(|| "unknown CPU".into())
-}
 
 fn fmt_rate(r: Option<f64>) -> String {
     match r {

@@ -23,6 +23,7 @@
 //! CPU backend (wall clock, all threads) and the GPU backend (timestamp queries where the adapter
 //! has them, else wall clock), `--repeats` times after one warm-up; the median is reported.
 
+use crate::timing::{cpu_model, load_average};
 use crate::backend::{Backend, DeviceChoice};
 use crate::eval::find_function;
 use crate::microfacet_ref as r64;
@@ -220,14 +221,7 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
     anyhow::ensure!((0.0..=1.0).contains(&a.f0), "--f0 must be in [0, 1]");
     anyhow::ensure!(a.budget_ms > 0.0 && a.budget_ms.is_finite(), "--budget-ms must be positive");
-    let gpu = match a.device {
-        DeviceChoice::Cpu => None,
-        DeviceChoice::Gpu => Some(Backend::select(DeviceChoice::Gpu)?),
-        DeviceChoice::Auto => match Backend::select(DeviceChoice::Auto)? {
-            b @ Backend::Gpu(_) => Some(b),
-            Backend::Cpu => None,
-        },
-    };
+    let gpu = Backend::gpu_column(a.device)?;
     let cpu = Backend::Cpu;
     let load_start = load_average();
     eprintln!("{}", cpu.describe());
@@ -308,16 +302,7 @@ pub fn equal_time_error(s: &Stats, rate: f64, budget_s: f64, albedo: f64) -> f64
     (s.var / (rate * budget_s)).sqrt() / albedo
 }
 
-fn load_average() -> String {
-    std::fs::read_to_string("/proc/loadavg").ok().and_then(|s| s.split_whitespace().next().map(str::to_string)).unwrap_or_else(|| "?".into())
-}
 
-fn cpu_model() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
-        .unwrap_or_else(|| "unknown CPU".into())
-}
 
 fn geo_mean(v: impl Iterator<Item = f64>) -> f64 {
     let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x.ln(), n + 1));
