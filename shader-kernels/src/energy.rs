@@ -5,7 +5,7 @@
 //! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args[0]` = invocations,
 //! `args[1]` = groups in x; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`.
 
-use crate::WORKGROUP_SIZE;
+use crate::invocation;
 use shader_core::energy::{self, FurnaceMaterial};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
@@ -69,16 +69,6 @@ pub fn furnace_pixel(i: u32, args: &[u32], lut: &[f32]) -> (f32, f32, f32) {
     (energy::furnace_albedo(lut, &m, mu, args[6], args[7], args[8], i), mu, roughness)
 }
 
-/// The invocation index, or `None` past the end of the work.
-#[inline]
-fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
-    let i = id.x + id.y * args[1] * WORKGROUP_SIZE;
-    if i < args[0] {
-        Some(i)
-    } else {
-        None
-    }
-}
 
 /// Entry point of [`albedo_table_cell`].
 #[spirv(compute(threads(64)))]

@@ -20,6 +20,18 @@ use spirv_std::spirv;
 /// rows are numbered `x + y * groups_x * WORKGROUP_SIZE`.
 pub const WORKGROUP_SIZE: u32 = 64;
 
+/// The invocation index of a 1D kernel dispatched as 2D groups (`args` = [count, groups in x,
+/// ...]), or `None` past the end of the work.
+#[inline]
+pub(crate) fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
+    let i = id.x + id.y * args[1] * WORKGROUP_SIZE;
+    if i < args[0] {
+        Some(i)
+    } else {
+        None
+    }
+}
+
 /// Evaluate one registered function ([`table::FUNCTIONS`]) over a table of rows.
 ///
 /// `params` = [function id, rows, input stride, output stride, groups in x]. `input` holds

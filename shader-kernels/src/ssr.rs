@@ -6,7 +6,7 @@
 //! groups in x, pass-specific...]; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
 //! `consts` is the [`shader_core::ssr::params`] buffer.
 
-use crate::WORKGROUP_SIZE;
+use crate::invocation;
 use shader_core::ssr::params::{mip_size, SsrParams};
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic;
@@ -14,16 +14,6 @@ use shader_core::ssr::trace::{self, RAY_STRIDE};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
-/// The invocation index, or `None` past the end of the work.
-#[inline]
-fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
-    let i = id.x + id.y * args[1] * WORKGROUP_SIZE;
-    if i < args[0] {
-        Some(i)
-    } else {
-        None
-    }
-}
 
 /// Min-depth pyramid: writes mip `args[2]` (>= 1) of `pyr` from the mip below it.
 #[spirv(compute(threads(64)))]
