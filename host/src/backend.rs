@@ -59,6 +59,19 @@ impl Backend {
         }
     }
 
+    /// The backends a benchmark times: the CPU backend and [`Backend::gpu_column`], each
+    /// described on standard error.
+    pub fn bench_pair(choice: DeviceChoice) -> Result<(Backend, Option<Backend>)> {
+        let gpu = Backend::gpu_column(choice)?;
+        let cpu = Backend::Cpu;
+        eprintln!("{}", cpu.describe());
+        match &gpu {
+            Some(g) => eprintln!("{}", g.describe()),
+            None => eprintln!("no GPU backend: GPU columns left empty"),
+        }
+        Ok((cpu, gpu))
+    }
+
     /// A one-line description of the backend.
     pub fn describe(&self) -> String {
         match self {

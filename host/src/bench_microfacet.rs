@@ -374,14 +374,8 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     anyhow::ensure!(a.grid >= 4, "--grid must be at least 4");
     anyhow::ensure!(a.rows >= 1024, "--rows must be at least 1024");
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
-    let gpu = Backend::gpu_column(a.device)?;
-    let cpu = Backend::Cpu;
     let load_start = load_average();
-    eprintln!("{}", cpu.describe());
-    match &gpu {
-        Some(g) => eprintln!("{}", g.describe()),
-        None => eprintln!("no GPU backend: GPU columns left empty"),
-    }
+    let (cpu, gpu) = Backend::bench_pair(a.device)?;
     let grids = [
         (Group::Visibility, visibility_grid(a.grid)),
         (Group::GgxD, ggx_d_grid(a.grid)),

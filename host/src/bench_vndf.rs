@@ -221,14 +221,8 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
     anyhow::ensure!((0.0..=1.0).contains(&a.f0), "--f0 must be in [0, 1]");
     anyhow::ensure!(a.budget_ms > 0.0 && a.budget_ms.is_finite(), "--budget-ms must be positive");
-    let gpu = Backend::gpu_column(a.device)?;
-    let cpu = Backend::Cpu;
     let load_start = load_average();
-    eprintln!("{}", cpu.describe());
-    match &gpu {
-        Some(g) => eprintln!("{}", g.describe()),
-        None => eprintln!("no GPU backend: GPU columns left empty"),
-    }
+    let (cpu, gpu) = Backend::bench_pair(a.device)?;
     let pts = grid();
     // The timing table: every grid point in turn, fresh random numbers.
     let mut timing_table = Vec::with_capacity(a.rows * 7);
