@@ -5,6 +5,7 @@
 //! results agree to the bit on conforming devices (see README, "Bit-exactness").
 #![no_std]
 
+pub mod buffer;
 pub mod bxdf;
 pub mod complex;
 pub mod energy;

@@ -60,7 +60,7 @@ impl Config {
                     "SSSR {rays}{}{}{}{}{}",
                     if s.reuse { " reuse" } else { "" },
                     if s.temporal_frames > 1 { format!(" +T{}", s.temporal_frames) } else { String::new() },
-                    if s.temporal_frames > 1 && s.reprojection == Reprojection::Hit { " hit-reproj" } else { "" },
+                    if s.temporal_frames > 1 && s.reprojection == Reprojection::Surface { " surface-reproj" } else { "" },
                     if s.hiz_roughness_cut != d.hiz_roughness_cut { format!(" linear16>={}", s.hiz_roughness_cut) } else { String::new() },
                     if *smp != VndfSampler::Heitz { format!(" {}", smp.label()) } else { String::new() },
                 )
@@ -87,7 +87,7 @@ pub fn configs() -> Vec<Config> {
     v.push(Config::Sssr(d.clone(), VndfSampler::Caps));
     v.push(Config::Sssr(d.clone(), VndfSampler::Bounded));
     v.push(Config::Sssr(SssrSettings { temporal_frames: 16, ..d.clone() }, h));
-    v.push(Config::Sssr(SssrSettings { temporal_frames: 16, reprojection: Reprojection::Hit, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { temporal_frames: 16, reprojection: Reprojection::Surface, ..d.clone() }, h));
     v.push(Config::Sssr(SssrSettings { samples_per_pixel: 4, ..d.clone() }, h));
     v.push(Config::Sssr(SssrSettings { samples_per_pixel: 4, temporal_frames: 16, ..d.clone() }, h));
     v.push(Config::Sssr(SssrSettings { rays_per_quad: 1, ..d.clone() }, h));

@@ -87,10 +87,10 @@ pub struct RunArgs {
     /// GGX visible-normal sampler of the stochastic rays (SSSR, HDRP 3x3 / cross5).
     #[arg(long, value_enum, default_value = "heitz")]
     pub sampler: VndfSampler,
-    /// SSSR temporal reprojection of the history: through the reflected hit (virtual image) or
-    /// the surface's motion vector (default: hit-based is not yet bit-exact on the GPU backend,
-    /// docs/ssr.md).
-    #[arg(long, value_enum, default_value = "surface")]
+    /// SSSR temporal reprojection of the history: through the virtual image of the reflected
+    /// hit (falls back to the surface's motion where the pixel's rays missed or the texel is
+    /// rejected), or the surface's motion vector only.
+    #[arg(long, value_enum, default_value = "hit")]
     pub reprojection: Reprojection,
     /// SSSR: disable the depth/normal history rejection (the neighbourhood clamp stays).
     #[arg(long)]

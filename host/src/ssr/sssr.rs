@@ -70,7 +70,7 @@ impl Default for SssrSettings {
             rough_linear_steps: 16,
             fis: true,
             sampled_pdf: false,
-            reprojection: Reprojection::Surface,
+            reprojection: Reprojection::Hit,
             history_rejection: true,
         }
     }

@@ -10,6 +10,7 @@ use super::resolve::{
     sample_color, OUT_STRIDE,
 };
 use super::trace::{clampf, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_STRIDE};
+use crate::buffer::{load, store};
 use crate::ndf;
 use crate::rng;
 use crate::vndf;
@@ -482,11 +483,11 @@ pub fn history_texel(p: &SsrParams, prev_gbuf: &[f32], history: &[f32], n_world:
     let hx = super::trace::floor_index(u * p.width as f32, p.width - 1);
     let hy = super::trace::floor_index(v * p.height as f32, p.height - 1);
     let t = hy * p.width + hx;
-    let accumulated = history[(t as usize) * HISTORY_STRIDE + 4] >= 1.0;
+    let accumulated = load(history, (t as usize) * HISTORY_STRIDE + 4) >= 1.0;
     let gb = (t as usize) * super::trace::GBUF_STRIDE;
-    let zp = prev_gbuf[gb];
-    let np = Vec3::new(prev_gbuf[gb + 1], prev_gbuf[gb + 2], prev_gbuf[gb + 3]);
-    let rp = prev_gbuf[gb + 4];
+    let zp = load(prev_gbuf, gb);
+    let np = Vec3::new(load(prev_gbuf, gb + 1), load(prev_gbuf, gb + 2), load(prev_gbuf, gb + 3));
+    let rp = load(prev_gbuf, gb + 4);
     let rough_ok = !(p.history_roughness_tolerance >= 0.0) || (rp - rough).abs() <= p.history_roughness_tolerance;
     let normal_ok = !(p.history_normal_cos > -1.0) || np.dot(n_world) >= p.history_normal_cos;
     let zp_ok = zp > 0.0 && zp < f32::INFINITY;
@@ -527,35 +528,36 @@ pub fn temporal_pixel(
 ) {
     let i = (y * p.width + x) as usize;
     let cb = i * OUT_STRIDE;
-    let cur = Vec3::new(current[cb], current[cb + 1], current[cb + 2]);
-    let cur_a = current[cb + 3];
+    let cur = Vec3::new(load(current, cb), load(current, cb + 1), load(current, cb + 2));
+    let cur_a = load(current, cb + 3);
     let gi = i * super::trace::GBUF_STRIDE;
     let s = load_surface(p, gbuf, x, y);
-    let geometry = gbuf[gi] > 0.0 && gbuf[gi] < f32::INFINITY;
-    let n_world = Vec3::new(gbuf[gi + 1], gbuf[gi + 2], gbuf[gi + 3]);
+    let geometry = load(gbuf, gi) > 0.0 && load(gbuf, gi) < f32::INFINITY;
+    let n_world = Vec3::new(load(gbuf, gi + 1), load(gbuf, gi + 2), load(gbuf, gi + 3));
     let p_world = p.inv_view.transform_point(s.pos);
     // Both candidates are evaluated unconditionally and selected afterwards (straight-line code).
-    // The hit distance comes from its own pass ([`hit_distance_pixel`]): computed here, the
-    // SPIR-V build of this pass lost the code after the ray loop on lavapipe (docs/ssr.md).
-    let dist = if p.temporal_reprojection == REPROJECT_HIT { hit_distance[i] } else { 0.0 };
+    // The hit distance comes from its own pass ([`hit_distance_pixel`]), which keeps this
+    // kernel's control-flow nesting low on llvmpipe (see `crate::buffer`); buffer accesses here go
+    // through `load` / `store` for the same reason.
+    let dist = if p.temporal_reprojection == REPROJECT_HIT { load(hit_distance, i) } else { 0.0 };
     let (hu, hv) = virtual_image_uv(p, &s, dist);
     let th = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, hu, hv);
-    let pu = (x as f32 + 0.5) / p.width as f32 - gbuf[gi + 6];
-    let pv = (y as f32 + 0.5) / p.height as f32 - gbuf[gi + 7];
+    let pu = (x as f32 + 0.5) / p.width as f32 - load(gbuf, gi + 6);
+    let pv = (y as f32 + 0.5) / p.height as f32 - load(gbuf, gi + 7);
     let ts = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, pu, pv);
     let use_hit = p.temporal_reprojection == REPROJECT_HIT && s.valid && dist > 0.0 && th != NO_HISTORY;
     let found = geometry && (use_hit || ts != NO_HISTORY);
     let t = if use_hit { th } else { ts };
     if !found {
-        out[ob] = cur.x;
-        out[ob + 1] = cur.y;
-        out[ob + 2] = cur.z;
-        out[ob + 3] = cur_a;
-        out[ob + 4] = 1.0;
+        store(out, ob, cur.x);
+        store(out, ob + 1, cur.y);
+        store(out, ob + 2, cur.z);
+        store(out, ob + 3, cur_a);
+        store(out, ob + 4, 1.0);
         return;
     }
     let hb = (t as usize) * HISTORY_STRIDE;
-    let n = history[hb + 4];
+    let n = load(history, hb + 4);
     // Neighbourhood box of the current frame.
     let mut lo = cur;
     let mut hi = cur;
@@ -569,27 +571,27 @@ pub fn temporal_pixel(
             let qy = y as i32 + dy;
             if qx >= 0 && qy >= 0 && (qx as u32) < p.width && (qy as u32) < p.height {
                 let b = ((qy as u32 * p.width + qx as u32) as usize) * OUT_STRIDE;
-                let c = Vec3::new(current[b], current[b + 1], current[b + 2]);
+                let c = Vec3::new(load(current, b), load(current, b + 1), load(current, b + 2));
                 lo = Vec3::new(minf(lo.x, c.x), minf(lo.y, c.y), minf(lo.z, c.z));
                 hi = Vec3::new(maxf(hi.x, c.x), maxf(hi.y, c.y), maxf(hi.z, c.z));
-                lo_a = minf(lo_a, current[b + 3]);
-                hi_a = maxf(hi_a, current[b + 3]);
+                lo_a = minf(lo_a, load(current, b + 3));
+                hi_a = maxf(hi_a, load(current, b + 3));
             }
             dx += 1;
         }
         dy += 1;
     }
     let h = Vec3::new(
-        clampf(history[hb], lo.x, hi.x),
-        clampf(history[hb + 1], lo.y, hi.y),
-        clampf(history[hb + 2], lo.z, hi.z),
+        clampf(load(history, hb), lo.x, hi.x),
+        clampf(load(history, hb + 1), lo.y, hi.y),
+        clampf(load(history, hb + 2), lo.z, hi.z),
     );
-    let ha = clampf(history[hb + 3], lo_a, hi_a);
+    let ha = clampf(load(history, hb + 3), lo_a, hi_a);
     let n1 = n + 1.0;
     let w = maxf(1.0 / n1, p.temporal_alpha);
-    out[ob] = h.x + (cur.x - h.x) * w;
-    out[ob + 1] = h.y + (cur.y - h.y) * w;
-    out[ob + 2] = h.z + (cur.z - h.z) * w;
-    out[ob + 3] = ha + (cur_a - ha) * w;
-    out[ob + 4] = minf(n1, 1024.0);
+    store(out, ob, h.x + (cur.x - h.x) * w);
+    store(out, ob + 1, h.y + (cur.y - h.y) * w);
+    store(out, ob + 2, h.z + (cur.z - h.z) * w);
+    store(out, ob + 3, ha + (cur_a - ha) * w);
+    store(out, ob + 4, minf(n1, 1024.0));
 }

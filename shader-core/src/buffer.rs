@@ -1,0 +1,46 @@
+//! Storage-buffer element access without panicking bounds checks, for kernels with many reads
+//! (a lavapipe control-flow limit, measured in docs/ssr.md "Bit-exactness notes").
+//!
+//! rust-gpu turns every panicking `buf[i]` into a bounds check whose failure returns from the
+//! entry point. Mesa lowers each such early return by nesting the rest of the function inside
+//! an `if`, and llvmpipe's gallivm keeps at most 80 nested conditions (`LP_MAX_TGSI_NESTING`):
+//! past that it silently stops masking, so lanes run code their conditions exclude. [`load`] and
+//! [`store`] check the index with a branch that merges instead of returning, so a kernel's
+//! nesting depth no longer grows with its number of buffer accesses. Out-of-range reads give 0
+//! and out-of-range writes are dropped, on the CPU and the GPU alike; callers index in range by
+//! construction (the CPU-vs-GPU comparisons would show a difference otherwise).
+
+/// `buf[i]`, or 0 when `i` is out of range.
+#[inline(always)]
+pub fn load(buf: &[f32], i: usize) -> f32 {
+    if i < buf.len() {
+        // SAFETY: `i < buf.len()` was just checked.
+        unsafe { *buf.get_unchecked(i) }
+    } else {
+        0.0
+    }
+}
+
+/// `buf[i] = v`; nothing is written when `i` is out of range.
+#[inline(always)]
+pub fn store(buf: &mut [f32], i: usize, v: f32) {
+    if i < buf.len() {
+        // SAFETY: `i < buf.len()` was just checked.
+        unsafe { *buf.get_unchecked_mut(i) = v }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn in_range_reads_and_writes_and_out_of_range_is_inert() {
+        let mut b = [1.0f32, 2.0, 3.0];
+        assert_eq!(load(&b, 1), 2.0);
+        assert_eq!(load(&b, 3), 0.0);
+        store(&mut b, 2, 7.0);
+        store(&mut b, 9, 8.0);
+        assert_eq!(b, [1.0, 2.0, 7.0]);
+    }
+}
