@@ -5,10 +5,12 @@
 //! * [`params`]: the parameter buffer every pass reads, and the coordinate conventions.
 //! * [`trace`]: G-buffer decoding, reflection rays, Hi-Z / linear / brute-force tracing.
 //! * [`resolve`]: HDRP fades, colour-pyramid sampling, SSR_APPROX and neighbourhood resolves.
+//! * [`specular`]: the reflection times the preintegrated FG term from the energy tables.
 //! * [`stochastic`]: Frostbite-style stochastic SSR (tiles, ray list, VNDF rays, reuse, temporal).
 
 pub mod mat4;
 pub mod params;
 pub mod resolve;
+pub mod specular;
 pub mod stochastic;
 pub mod trace;

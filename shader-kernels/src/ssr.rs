@@ -9,6 +9,7 @@
 use crate::invocation;
 use shader_core::ssr::params::{mip_size, SsrParams};
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, OUT_STRIDE};
+use shader_core::ssr::specular;
 use shader_core::ssr::stochastic;
 use shader_core::ssr::trace::{self, RAY_STRIDE};
 use spirv_std::glam::UVec3;
@@ -211,4 +212,23 @@ pub fn sssr_hit_distance(
     let Some(i) = invocation(id, args) else { return };
     let p = SsrParams::load(consts);
     out[i as usize] = stochastic::hit_distance_pixel(&p, gbuf, rays, i % p.width, i / p.width);
+}
+
+/// Specular term: the reflection (4 values per pixel) times the preintegrated FG term looked up
+/// in the energy tables `lut` (`shader_core::energy` layout), with f0 from base colour (3 per
+/// pixel) and metalness.
+#[spirv(compute(threads(64)))]
+pub fn ssr_specular(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] base_color: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] lut: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] reflection: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    specular::specular_pixel(&p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, out, (i as usize) * specular::SPECULAR_STRIDE);
 }

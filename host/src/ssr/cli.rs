@@ -100,6 +100,10 @@ pub struct RunArgs {
     pub reference_samples: u32,
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
+    /// Energy tables (`host energy precompute` .bin) for the specular output's preintegrated FG
+    /// term; without it the default tables are precomputed on the chosen backend.
+    #[arg(long)]
+    pub lut: Option<PathBuf>,
 }
 
 impl RunArgs {
@@ -300,6 +304,30 @@ pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: O
     Ok(files)
 }
 
+/// The specular EXR (`<stem>.specular.exr`: RGB, and the reference integrals where one exists)
+/// and its PNG preview.
+fn write_specular(out: &Path, result: &SsrResult, specular: &[f32], reference: Option<&Reference>) -> Result<Vec<PathBuf>> {
+    let (w, h) = (result.width, result.height);
+    let n = w * h;
+    let ch = |v: &[f32], k: usize, s: usize| -> Vec<f32> { (0..n).map(|i| v[s * i + k]).collect() };
+    let mut chans: Vec<(String, Vec<f32>)> = ["R", "G", "B"].iter().enumerate().map(|(k, c)| (c.to_string(), ch(specular, k, 4))).collect();
+    if let Some(r) = reference {
+        for (name, img) in [("reference_all", &r.specular_all), ("reference_onscreen", &r.specular_onscreen)] {
+            for (k, c) in ["R", "G", "B"].iter().enumerate() {
+                chans.push((format!("{name}.{c}"), ch(img, k, 3)));
+            }
+        }
+    }
+    let refs: Vec<(&str, &[f32])> = chans.iter().map(|(a, b)| (a.as_str(), b.as_slice())).collect();
+    let stem = out.with_extension("");
+    let exr = PathBuf::from(format!("{}.specular.exr", stem.display()));
+    write_exr(&exr, w, h, &refs)?;
+    let png = PathBuf::from(format!("{}.specular.png", stem.display()));
+    let rgb: Vec<f32> = specular.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
+    write_rgb_preview_png(&png, w, h, &rgb, 0.0)?;
+    Ok(vec![exr, png])
+}
+
 /// `host ssr`.
 pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()> {
     let input = load_input(a)?;
@@ -309,7 +337,15 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
     }
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
-    let result = run_pipeline(&backend, &input, a)?;
+    let mut result = run_pipeline(&backend, &input, a)?;
+    // Specular = composited reflection x FG (energy tables), a pass of its own.
+    let sky = input.scene.as_ref().map(|s| s.sky).unwrap_or([0.0; 3]);
+    let tables = crate::energy::load_or_precompute(&backend, &a.lut)?;
+    let consts = super::pipeline::build_params(&input.gbuffer, &a.settings())?;
+    let comp: Vec<f32> = composite(&result.reflection, sky).chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
+    let mut r = super::pipeline::Runner::new(&backend);
+    let specular = r.specular(&consts, &input.gbuffer.packed(), &input.gbuffer.base_color, &tables.lut_buffer(), &comp)?;
+    result.times.extend(r.times);
     for t in &result.times {
         eprintln!("  {:<16} {:>9.3} ms ({})", t.name, t.seconds * 1e3, t.source);
     }
@@ -319,7 +355,6 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
             t.skipped, t.tiles, t.rays, t.eligible_pixels
         );
     }
-    let sky = input.scene.as_ref().map(|s| s.sky).unwrap_or([0.0; 3]);
     let reference = match &input.scene {
         Some(s) => {
             let r = render_reference(s, &input.gbuffer, 1.0 - a.min_smoothness, a.reference_samples);
@@ -328,11 +363,19 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
                 "  error vs reference: on-screen pixels ({}) RMSE {:.4} rel {:.3}; all glossy ({}) RMSE {:.4} rel {:.3} (vs on-screen reference: RMSE {:.4} rel {:.3})",
                 e.onscreen.pixels, e.onscreen.rmse, e.onscreen.rel, e.all.pixels, e.all.rmse, e.all.rel, e.algorithm.rmse, e.algorithm.rel
             );
+            let spec_rgb: Vec<f32> = specular.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
+            let es = error(&spec_rgb, &r.specular_onscreen, &r.glossy);
+            let ea = error(&spec_rgb, &r.specular_all, &r.glossy);
+            eprintln!(
+                "  specular (x FG) vs reference integral: glossy pixels ({}) on-screen RMSE {:.4} rel {:.3}; all geometry RMSE {:.4} rel {:.3}",
+                es.pixels, es.rmse, es.rel, ea.rmse, ea.rel
+            );
             Some(r)
         }
         None => None,
     };
-    let files = write_outputs(output, &input, &result, reference.as_ref(), sky).context("writing outputs")?;
+    let mut files = write_outputs(output, &input, &result, reference.as_ref(), sky).context("writing outputs")?;
+    files.extend(write_specular(output, &result, &specular, reference.as_ref()).context("writing the specular output")?);
     for f in files {
         eprintln!("wrote {}", f.display());
     }

@@ -1,11 +1,13 @@
-//! The SSR inputs: a G-buffer (linear depth, world normal, perceptual roughness, metalness, the
-//! scene colour reflections sample, motion vectors) and the cameras of this and the previous frame.
+//! The SSR inputs: a G-buffer (linear depth, world normal, perceptual roughness, metalness, base
+//! colour, the scene colour reflections sample, motion vectors) and the cameras of this and the
+//! previous frame.
 //!
 //! On disk: one EXR with the channels [`CHANNELS`] plus a JSON file beside it (same stem,
 //! `.json`) holding `{"width", "height", "camera", "previous_camera"}` (see [`Camera`]).
 //! Depth is linear view depth (> 0; `+inf` = sky); normals are world-space unit vectors; the
 //! colour is the previous frame's HDR colour (what HDRP's colour pyramid holds when SSR runs);
-//! motion vectors are UV(current) - UV(previous).
+//! motion vectors are UV(current) - UV(previous); base colour and metalness give the glTF
+//! metal-rough F0 = mix(0.04, base colour, metalness) of the specular (FG) pass.
 
 use super::camera::Camera;
 use crate::io::{read_exr, write_exr};
@@ -14,9 +16,9 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// EXR channel names, in the order of the fields they fill.
-pub const CHANNELS: [&str; 11] = [
-    "depth", "normal.X", "normal.Y", "normal.Z", "roughness", "metalness", "color.R", "color.G", "color.B", "motion.X",
-    "motion.Y",
+pub const CHANNELS: [&str; 14] = [
+    "depth", "normal.X", "normal.Y", "normal.Z", "roughness", "metalness", "basecolor.R", "basecolor.G", "basecolor.B",
+    "color.R", "color.G", "color.B", "motion.X", "motion.Y",
 ];
 
 /// A G-buffer and its cameras. Per-pixel vectors are interleaved; rows top to bottom.
@@ -29,6 +31,8 @@ pub struct GBuffer {
     pub normal: Vec<f32>,
     pub roughness: Vec<f32>,
     pub metalness: Vec<f32>,
+    /// glTF base colour (linear, in [0, 1]), RGB per pixel.
+    pub base_color: Vec<f32>,
     /// Scene colour (previous frame), RGB per pixel.
     pub color: Vec<f32>,
     /// UV(current) - UV(previous), 2 per pixel.
@@ -66,6 +70,7 @@ impl GBuffer {
             ("normal", self.normal.len(), 3 * n),
             ("roughness", self.roughness.len(), n),
             ("metalness", self.metalness.len(), n),
+            ("base color", self.base_color.len(), 3 * n),
             ("color", self.color.len(), 3 * n),
             ("motion", self.motion.len(), 2 * n),
         ];
@@ -101,6 +106,9 @@ impl GBuffer {
             if let Some((i, v)) = data.iter().enumerate().find(|(_, v)| !(**v >= 0.0 && **v <= 1.0)) {
                 bail!("G-buffer {name} must be in [0, 1], got {v} at {}", at(i));
             }
+        }
+        if let Some((i, v)) = self.base_color.iter().enumerate().find(|(_, v)| !(**v >= 0.0 && **v <= 1.0)) {
+            bail!("G-buffer base color must be in [0, 1], got {v} at {}", at(i / 3));
         }
         if let Some((i, v)) = self.color.iter().enumerate().find(|(_, v)| !v.is_finite() || **v < 0.0) {
             bail!("G-buffer color must be finite and >= 0, got {v} at {}", at(i / 3));
@@ -144,6 +152,9 @@ impl GBuffer {
             ("normal.Z", comp(&self.normal, 2, 3)),
             ("roughness", self.roughness.clone()),
             ("metalness", self.metalness.clone()),
+            ("basecolor.R", comp(&self.base_color, 0, 3)),
+            ("basecolor.G", comp(&self.base_color, 1, 3)),
+            ("basecolor.B", comp(&self.base_color, 2, 3)),
             ("color.R", comp(&self.color, 0, 3)),
             ("color.G", comp(&self.color, 1, 3)),
             ("color.B", comp(&self.color, 2, 3)),
@@ -201,6 +212,7 @@ impl GBuffer {
             normal: inter(&["normal.X", "normal.Y", "normal.Z"])?,
             roughness: get("roughness")?,
             metalness: get("metalness")?,
+            base_color: inter(&["basecolor.R", "basecolor.G", "basecolor.B"])?,
             color: inter(&["color.R", "color.G", "color.B"])?,
             motion: inter(&["motion.X", "motion.Y"])?,
             camera: cams.camera,

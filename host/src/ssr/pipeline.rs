@@ -10,6 +10,7 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{self, idx, mip_size, SsrParams};
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, OUT_STRIDE};
+use shader_core::ssr::specular::{self, SPECULAR_STRIDE};
 use shader_core::ssr::trace::{self, RAY_STRIDE};
 use std::time::Instant;
 
@@ -366,6 +367,35 @@ impl<'a> Runner<'a> {
             Backend::Gpu(_) => {
                 self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[arg], &[consts, gbuf, color_pyr, rays], n * OUT_STRIDE, None)
             }
+        }
+    }
+
+    /// The specular term: `reflection` (4 values per pixel, premultiplied) times the
+    /// preintegrated FG term from the energy tables `lut` (`crate::energy::Tables::lut_buffer`),
+    /// f0 = mix(0.04, base colour, metalness). 4 values per pixel (RGB, opacity).
+    pub fn specular(&mut self, consts: &[f32], gbuf: &[f32], base_color: &[f32], lut: &[f32], reflection: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let n = (p.width * p.height) as usize;
+        anyhow::ensure!(base_color.len() == 3 * n, "base colour has {} values, expected {}", base_color.len(), 3 * n);
+        anyhow::ensure!(reflection.len() == 4 * n, "reflection has {} values, expected {}", reflection.len(), 4 * n);
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("specular", || {
+                let mut out = vec![0.0f32; n * SPECULAR_STRIDE];
+                out.par_chunks_mut(SPECULAR_STRIDE).enumerate().for_each(|(i, o)| {
+                    let i = i as u32;
+                    specular::specular_pixel(&p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, o, 0);
+                });
+                out
+            })),
+            Backend::Gpu(_) => self.gpu_pass(
+                "specular",
+                "ssr::ssr_specular",
+                n as u32,
+                &[],
+                &[consts, gbuf, base_color, lut, reflection],
+                n * SPECULAR_STRIDE,
+                None,
+            ),
         }
     }
 }

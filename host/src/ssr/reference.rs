@@ -7,7 +7,10 @@
 //! Mirror pixels (perceptual roughness 0) use the one reflected ray; glossy pixels average
 //! GGX-VNDF-sampled rays (Heitz 2018; stratified) with weights G2/G1 = (1 + Lambda(v)) /
 //! (1 + Lambda(v) + Lambda(l)) (height-correlated Smith, F = 1): the same normalized-BRDF average
-//! HDRP's and the stochastic SSR's outputs estimate (before the FG term).
+//! HDRP's and the stochastic SSR's outputs estimate (before the FG term). The specular versions
+//! are the integral itself, (1/N) sum F(v.h) G2/G1 L with Schlick's F of the glTF metal-rough f0
+//! (mix(0.04, base colour, metalness), f90 = 1): what the reflection times the preintegrated FG
+//! term (`shader_core::ssr::specular`) approximates.
 
 use super::camera::{add, dot, normalize, scale, sub, V3};
 use super::gbuffer::GBuffer;
@@ -23,6 +26,9 @@ pub struct Reference {
     pub all: Vec<f32>,
     /// RGB per pixel, on-screen geometry only.
     pub onscreen: Vec<f32>,
+    /// Specular integral (with Fresnel, not normalized) per pixel: all geometry, on-screen only.
+    pub specular_all: Vec<f32>,
+    pub specular_onscreen: Vec<f32>,
     /// Weighted fraction of rays whose result is the same both ways (escaped, or hit visible
     /// on-screen geometry), per pixel.
     pub onscreen_fraction: Vec<f32>,
@@ -77,22 +83,22 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
     let eye = cam.eye();
     let strata = (samples as f64).sqrt().round().max(1.0) as u32;
     let sky = [scene.sky[0] as f64, scene.sky[1] as f64, scene.sky[2] as f64];
-    let rows: Vec<([f32; 3], [f32; 3], f32, bool, [f32; 2])> = (0..w * h)
+    let rows: Vec<([f32; 3], [f32; 3], f32, bool, [f32; 2], [f32; 3], [f32; 3])> = (0..w * h)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % w, i / w);
             let d = cam.ray_dir(w, h, x as f64 + 0.5, y as f64 + 0.5);
-            let Some(hit) = scene.cast(eye, d, 1e-9) else { return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2]) };
+            let Some(hit) = scene.cast(eye, d, 1e-9) else { return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2], [0.0; 3], [0.0; 3]) };
             let m = &scene.objects[hit.object].material;
             let rough = m.roughness_at(hit.p);
             if rough > max_roughness {
-                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2]);
+                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2], [0.0; 3], [0.0; 3]);
             }
             let n = hit.n;
             let v = scale(d, -1.0);
             let nv = dot(n, v);
             if nv <= 0.0 {
-                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2]);
+                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2], [0.0; 3], [0.0; 3]);
             }
             let alpha = f64::from(rough) * f64::from(rough);
             let (t, b) = basis(n);
@@ -103,8 +109,13 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
             let mut acc_same = 0.0;
             let mut acc_w = 0.0;
             let mut mirror_hit = [f32::NAN; 2];
+            let mut spec_all = [0.0; 3];
+            let mut spec_on = [0.0; 3];
+            let metal = f64::from(m.metalness);
+            let f0: [f64; 3] = std::array::from_fn(|c| 0.04 + (m.albedo[c] - 0.04) * metal);
             let count = if rough == 0.0 { 1 } else { strata * strata };
             for k in 0..count {
+                let mut vh = nv;
                 let l = if rough == 0.0 {
                     sub(scale(n, 2.0 * nv), v)
                 } else {
@@ -114,7 +125,8 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
                     let u2 = (sy + unit(hash64(hsh))) / strata as f64;
                     let m_l = sample_vndf(vl, alpha, u1, u2);
                     let m_w = add(add(scale(t, m_l[0]), scale(b, m_l[1])), scale(n, m_l[2]));
-                    sub(scale(m_w, 2.0 * dot(v, m_w)), v)
+                    vh = dot(v, m_w);
+                    sub(scale(m_w, 2.0 * vh), v)
                 };
                 let nl = dot(n, l);
                 if nl <= 0.0 {
@@ -148,15 +160,20 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
                         (c, if on { c } else { sky })
                     }
                 };
+                let schlick = (1.0 - vh.clamp(0.0, 1.0)).powi(5);
                 for k in 0..3 {
                     acc_all[k] += wgt * c_all[k];
                     acc_on[k] += wgt * c_on[k];
+                    let fw = wgt * (f0[k] + (1.0 - f0[k]) * schlick);
+                    spec_all[k] += fw * c_all[k];
+                    spec_on[k] += fw * c_on[k];
                 }
                 if c_all == c_on {
                     acc_same += wgt;
                 }
                 acc_w += wgt;
             }
+            let sp = |a: [f64; 3]| [(a[0] / count as f64) as f32, (a[1] / count as f64) as f32, (a[2] / count as f64) as f32];
             if acc_w <= 0.0 {
                 return (
                     [sky[0] as f32, sky[1] as f32, sky[2] as f32],
@@ -164,10 +181,12 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
                     1.0,
                     true,
                     mirror_hit,
+                    [0.0; 3],
+                    [0.0; 3],
                 );
             }
             let f = |a: [f64; 3]| [(a[0] / acc_w) as f32, (a[1] / acc_w) as f32, (a[2] / acc_w) as f32];
-            (f(acc_all), f(acc_on), (acc_same / acc_w) as f32, true, mirror_hit)
+            (f(acc_all), f(acc_on), (acc_same / acc_w) as f32, true, mirror_hit, sp(spec_all), sp(spec_on))
         })
         .collect();
     let mut r = Reference {
@@ -175,12 +194,16 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
         height: h,
         all: Vec::with_capacity(3 * w * h),
         onscreen: Vec::with_capacity(3 * w * h),
+        specular_all: Vec::with_capacity(3 * w * h),
+        specular_onscreen: Vec::with_capacity(3 * w * h),
         onscreen_fraction: Vec::with_capacity(w * h),
         glossy: Vec::with_capacity(w * h),
         mirror_hit: Vec::with_capacity(2 * w * h),
         samples: if samples <= 1 { 1 } else { strata * strata },
     };
-    for (a, o, f, g, m) in rows {
+    for (a, o, f, g, m, sa, so) in rows {
+        r.specular_all.extend_from_slice(&sa);
+        r.specular_onscreen.extend_from_slice(&so);
         r.mirror_hit.extend_from_slice(&m);
         r.all.extend_from_slice(&a);
         r.onscreen.extend_from_slice(&o);

@@ -208,7 +208,7 @@ impl Scene {
         let prev = if self.animated() && frame > 0 { self.camera(frame - 1) } else { cam };
         let eye = cam.eye();
         let n = width * height;
-        let rows: Vec<(f32, [f32; 3], f32, f32, [f32; 2])> = (0..n)
+        let rows: Vec<(f32, [f32; 3], f32, f32, [f32; 3], [f32; 2])> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let (x, y) = (i % width, i / width);
@@ -225,6 +225,7 @@ impl Scene {
                             [h.n[0] as f32, h.n[1] as f32, h.n[2] as f32],
                             m.roughness_at(h.p),
                             m.metalness,
+                            [m.albedo[0] as f32, m.albedo[1] as f32, m.albedo[2] as f32],
                             [mv[0] as f32, mv[1] as f32],
                         )
                     }
@@ -238,7 +239,7 @@ impl Scene {
                         } else {
                             [0.0, 0.0]
                         };
-                        (f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, mv)
+                        (f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, [0.0; 3], mv)
                     }
                 }
             })
@@ -251,16 +252,18 @@ impl Scene {
             normal: Vec::with_capacity(3 * n),
             roughness: Vec::with_capacity(n),
             metalness: Vec::with_capacity(n),
+            base_color: Vec::with_capacity(3 * n),
             color,
             motion: Vec::with_capacity(2 * n),
             camera: cam,
             previous_camera: prev,
         };
-        for (z, nn, r, m, mv) in rows {
+        for (z, nn, r, m, bc, mv) in rows {
             g.depth.push(z);
             g.normal.extend_from_slice(&nn);
             g.roughness.push(r);
             g.metalness.push(m);
+            g.base_color.extend_from_slice(&bc);
             g.motion.extend_from_slice(&mv);
         }
         g

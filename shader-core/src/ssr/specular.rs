@@ -1,0 +1,51 @@
+//! The specular term of a reflection: the resolved, BRDF-normalized reflection times the
+//! preintegrated FG term (Stachowiak 2015, "ratio estimator ... x preintegrated FG"; Karis 2013
+//! split sum), FG = E''(n.v, r) = f0 (E - E') + f90 E' from the energy tables (`crate::energy`,
+//! Filament section 5.3.4.3), with the glTF metal-rough f0 = mix(0.04, base colour, metalness).
+
+use super::params::SsrParams;
+use super::trace::{load_surface, GBUF_STRIDE};
+use crate::buffer::{load, store};
+use crate::energy::{lut_e, lut_e_prime, schlick_albedo, DIELECTRIC_F0};
+use crate::vector::Vec3;
+
+/// Values per pixel of the specular output: premultiplied RGB and the reflection's opacity.
+pub const SPECULAR_STRIDE: usize = 4;
+
+/// glTF metal-rough f0 of one channel: 0.04 + (base - 0.04) metalness.
+#[inline]
+pub fn metal_rough_f0(base: f32, metalness: f32) -> f32 {
+    DIELECTRIC_F0 + (base - DIELECTRIC_F0) * metalness
+}
+
+/// The FG term of pixel (x, y) per channel (f90 = 1): E''(n.v, r) with f0 from base colour and
+/// metalness. 0 where the pixel has no valid surface (sky, back-facing, rougher than the fade end).
+pub fn fg_pixel(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], x: u32, y: u32) -> Vec3 {
+    let s = load_surface(p, gbuf, x, y);
+    if !s.valid {
+        return Vec3::ZERO;
+    }
+    let i = (y * p.width + x) as usize;
+    let metalness = load(gbuf, i * GBUF_STRIDE + 5);
+    let mu = s.n.dot(s.v);
+    let e = lut_e(lut, mu, s.perceptual_roughness);
+    let ep = lut_e_prime(lut, mu, s.perceptual_roughness);
+    let b = i * 3;
+    Vec3::new(
+        schlick_albedo(e, ep, metal_rough_f0(load(base_color, b), metalness), 1.0),
+        schlick_albedo(e, ep, metal_rough_f0(load(base_color, b + 1), metalness), 1.0),
+        schlick_albedo(e, ep, metal_rough_f0(load(base_color, b + 2), metalness), 1.0),
+    )
+}
+
+/// The specular pass for pixel (x, y): the reflection (premultiplied RGB, opacity; 4 values per
+/// pixel) with its RGB multiplied by [`fg_pixel`]; the opacity is kept.
+#[allow(clippy::too_many_arguments)]
+pub fn specular_pixel(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], reflection: &[f32], x: u32, y: u32, out: &mut [f32], ob: usize) {
+    let fg = fg_pixel(p, gbuf, base_color, lut, x, y);
+    let rb = ((y * p.width + x) as usize) * 4;
+    store(out, ob, load(reflection, rb) * fg.x);
+    store(out, ob + 1, load(reflection, rb + 1) * fg.y);
+    store(out, ob + 2, load(reflection, rb + 2) * fg.z);
+    store(out, ob + 3, load(reflection, rb + 3));
+}
