@@ -328,10 +328,176 @@ impl GpuContext {
         Ok((results, timing))
     }
 
+    /// Run several passes in one command buffer, buffers staying on the device between them (no
+    /// host round trip): each pass binds `reads` (read-only storage, bindings 0..) then `writes`
+    /// (read-write) from `buffers`, and is dispatched directly or indirectly from a buffer the
+    /// earlier passes wrote. Returns the contents of the buffers marked `read_back` (None for the
+    /// others) and each pass's time (timestamp queries where the adapter has them, else the whole
+    /// chain's wall clock on every pass).
+    pub fn dispatch_chain(&self, buffers: &[ChainBuffer<'_>], passes: &[ChainPass<'_>]) -> Result<(Vec<Option<Vec<u8>>>, Vec<Timing>), GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let t0 = Instant::now();
+        let mut bufs = Vec::with_capacity(buffers.len());
+        let mut readbacks: Vec<Option<(wgpu::Buffer, usize)>> = Vec::with_capacity(buffers.len());
+        for (i, b) in buffers.iter().enumerate() {
+            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::INDIRECT;
+            let label = format!("chain buffer {i}");
+            let (buf, read_size) = match b {
+                ChainBuffer::Input(data) => (
+                    self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(&label), contents: &padded(data), usage }),
+                    None,
+                ),
+                ChainBuffer::Output { size, init, read_back } => {
+                    let buf = match init {
+                        Some(init) => self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(&label), contents: &padded(init), usage }),
+                        None => self.device.create_buffer(&wgpu::BufferDescriptor {
+                            label: Some(&label),
+                            size: (*size).max(4).next_multiple_of(4) as u64,
+                            usage,
+                            mapped_at_creation: false,
+                        }),
+                    };
+                    (buf, read_back.then_some(*size))
+                }
+            };
+            readbacks.push(read_size.map(|size| {
+                let rb = self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&format!("chain readback {i}")),
+                    size: size.max(4).next_multiple_of(4) as u64,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                (rb, size)
+            }));
+            bufs.push(buf);
+        }
+        let n_q = 2 * passes.len() as u32;
+        let query = self.timestamps.then(|| {
+            let set = self.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("chain times"), ty: wgpu::QueryType::Timestamp, count: n_q });
+            let resolve = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("chain timestamps"),
+                size: 8 * n_q as u64,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let read = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("chain timestamps readback"),
+                size: 8 * n_q as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            (set, resolve, read)
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        for (k, pass_spec) in passes.iter().enumerate() {
+            let (pipeline, bgl) = self.pipeline(pass_spec.entry, pass_spec.reads.len(), pass_spec.writes.len());
+            let entries: Vec<wgpu::BindGroupEntry> = pass_spec
+                .reads
+                .iter()
+                .chain(&pass_spec.writes)
+                .enumerate()
+                .map(|(binding, &b)| wgpu::BindGroupEntry { binding: binding as u32, resource: bufs[b].as_entire_binding() })
+                .collect();
+            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(pass_spec.entry), layout: &bgl, entries: &entries });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(pass_spec.entry),
+                timestamp_writes: query.as_ref().map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(2 * k as u32),
+                    end_of_pass_write_index: Some(2 * k as u32 + 1),
+                }),
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            match pass_spec.dispatch {
+                ChainDispatch::Direct(x, y, z) => pass.dispatch_workgroups(x, y, z),
+                ChainDispatch::Indirect { buffer, offset_bytes } => pass.dispatch_workgroups_indirect(&bufs[buffer], offset_bytes),
+            }
+        }
+        for (i, rb) in readbacks.iter().enumerate() {
+            if let Some((rb, _)) = rb {
+                encoder.copy_buffer_to_buffer(&bufs[i], 0, rb, 0, rb.size());
+            }
+        }
+        if let Some((set, resolve, read)) = &query {
+            encoder.resolve_query_set(set, 0..n_q, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 8 * n_q as u64);
+        }
+        self.queue.submit([encoder.finish()]);
+        let mut maps: Vec<&wgpu::Buffer> = readbacks.iter().flatten().map(|(b, _)| b).collect();
+        if let Some((_, _, read)) = &query {
+            maps.push(read);
+        }
+        for b in &maps {
+            b.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping a readback buffer"));
+        }
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Runtime("chain".into(), e.to_string()))?;
+        let wall = t0.elapsed().as_secs_f64();
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Runtime(passes.iter().map(|p| p.entry).collect::<Vec<_>>().join(" + "), err.to_string()));
+        }
+        let mut out = Vec::with_capacity(buffers.len());
+        for rb in &readbacks {
+            out.push(match rb {
+                Some((rb, size)) => {
+                    let view = rb.get_mapped_range(..).map_err(|e| GpuError::Runtime("chain".into(), e.to_string()))?;
+                    let v = view[..*size].to_vec();
+                    drop(view);
+                    rb.unmap();
+                    Some(v)
+                }
+                None => None,
+            });
+        }
+        let times = match &query {
+            Some((_, _, read)) => {
+                let view = read.get_mapped_range(..).map_err(|e| GpuError::Runtime("chain".into(), e.to_string()))?;
+                let t: &[u64] = bytemuck::cast_slice(&view);
+                let period = f64::from(self.queue.get_timestamp_period());
+                let v = (0..passes.len())
+                    .map(|k| Timing { seconds: t[2 * k + 1].saturating_sub(t[2 * k]) as f64 * period * 1e-9, source: TimingSource::TimestampQuery })
+                    .collect();
+                drop(view);
+                read.unmap();
+                v
+            }
+            None => vec![Timing { seconds: wall / passes.len().max(1) as f64, source: TimingSource::WallClock }; passes.len()],
+        };
+        Ok((out, times))
+    }
+
     /// Largest storage binding, in bytes.
     pub fn max_binding_bytes(&self) -> usize {
         (self.limits.max_storage_buffer_binding_size as usize).min(1 << 30)
     }
+}
+
+/// A buffer of [`GpuContext::dispatch_chain`]: uploaded input, or a device buffer the passes
+/// write (zeroed or initialized), optionally read back after the chain.
+#[derive(Clone, Copy, Debug)]
+pub enum ChainBuffer<'a> {
+    Input(&'a [u8]),
+    Output { size: usize, init: Option<&'a [u8]>, read_back: bool },
+}
+
+/// How a chain pass is dispatched: fixed workgroup counts, or (x, y, z) u32 counts read from a
+/// chain buffer at a byte offset (written by an earlier pass).
+#[derive(Clone, Copy, Debug)]
+pub enum ChainDispatch {
+    Direct(u32, u32, u32),
+    Indirect { buffer: usize, offset_bytes: u64 },
+}
+
+/// One pass of a chain: entry point, read-only buffers, read-write buffers (indices into the
+/// chain's buffers, bound in that order), dispatch.
+#[derive(Clone, Debug)]
+pub struct ChainPass<'a> {
+    pub entry: &'a str,
+    pub reads: Vec<usize>,
+    pub writes: Vec<usize>,
+    pub dispatch: ChainDispatch,
 }
 
 /// A read-write buffer of `dispatch`: its size in bytes and optional initial contents.

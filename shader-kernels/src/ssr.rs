@@ -13,6 +13,7 @@ use shader_core::ssr::specular;
 use shader_core::ssr::stochastic;
 use shader_core::ssr::trace::{self, RAY_STRIDE};
 use spirv_std::glam::UVec3;
+use spirv_std::arch::workgroup_memory_barrier_with_group_sync;
 use spirv_std::spirv;
 
 
@@ -111,20 +112,6 @@ pub fn sssr_classify(
     tiles[b + 1] = f32::from_bits(rays);
     tiles[b + 2] = f32::from_bits(eligible);
     tiles[b + 3] = f32::from_bits(0);
-}
-
-/// Stochastic SSR, compaction step 1: the exclusive prefix sum of the tiles' ray counts (a single
-/// invocation walks the tiles in order, so the list is the same on every backend). `args[2]` =
-/// tile count.
-#[spirv(compute(threads(64)))]
-pub fn sssr_prefix(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] tiles: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] offsets: &mut [f32],
-) {
-    let Some(_) = invocation(id, args) else { return };
-    stochastic::prefix_sum_tiles(tiles, args[2], offsets);
 }
 
 /// Stochastic SSR, compaction step 2: each tile writes its rays (pixel, sample | mode << 8) into
@@ -231,4 +218,57 @@ pub fn ssr_specular(
     let Some(i) = invocation(id, args) else { return };
     let p = SsrParams::load(consts);
     specular::specular_pixel(&p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, out, (i as usize) * specular::SPECULAR_STRIDE);
+}
+
+/// Stochastic SSR, compaction step 1: the exclusive prefix sum of the tiles' ray
+/// counts by one workgroup of 64 lanes, in chunks of 64 tiles (Hillis-Steele scan in workgroup
+/// memory, the running total carried between chunks), and the trace pass's dispatch record
+/// (`stochastic::dispatch_record`: ray count, then the indirect-dispatch groups). Integer sums:
+/// the same offsets as the CPU's sequential `prefix_sum_tiles`. `args[2]` = tile count.
+#[spirv(compute(threads(64)))]
+pub fn sssr_scan(
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] tiles: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] offsets: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] dispatch: &mut [u32],
+    #[spirv(workgroup)] shared: &mut [u32; stochastic::SCAN_SHARED],
+) {
+    let n = args[2];
+    let lanes = stochastic::SCAN_LANES;
+    let mut carry: u32 = 0;
+    let mut base: u32 = 0;
+    while base < n {
+        let t = base + lane;
+        let own = if t < n { tiles[(t as usize) * stochastic::TILE_STRIDE + 1].to_bits() } else { 0 };
+        shared[lane as usize] = own;
+        workgroup_memory_barrier_with_group_sync();
+        let mut src: usize = 0;
+        let mut d: u32 = 1;
+        while d < lanes {
+            let v = stochastic::scan_lane_inclusive(shared, src, lane, d);
+            let dst = (lanes as usize) - src;
+            shared[dst + lane as usize] = v;
+            workgroup_memory_barrier_with_group_sync();
+            src = dst;
+            d *= 2;
+        }
+        let inclusive = shared[src + lane as usize];
+        let chunk_total = shared[src + (lanes - 1) as usize];
+        if t < n {
+            offsets[t as usize] = f32::from_bits(carry + inclusive - own);
+        }
+        workgroup_memory_barrier_with_group_sync();
+        carry += chunk_total;
+        base += lanes;
+    }
+    if lane == 0 {
+        offsets[n as usize] = f32::from_bits(carry);
+        let rec = stochastic::dispatch_record(carry, crate::WORKGROUP_SIZE);
+        let mut k = 0;
+        while k < stochastic::DISPATCH_WORDS {
+            dispatch[k] = rec[k];
+            k += 1;
+        }
+    }
 }

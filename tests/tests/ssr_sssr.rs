@@ -232,3 +232,50 @@ fn hit_reprojection_beats_surface_motion_under_camera_motion() {
     assert!(hit < surf - 0.015, "hit-based reprojection should beat surface motion: {hit} vs {surf}");
     assert!(hit_rough < surf_rough + 0.01, "non-mirror: {hit_rough} vs {surf_rough}");
 }
+
+/// The parallel ray-list scan (one workgroup, Hillis-Steele in workgroup memory, chunks of 64
+/// tiles) gives the CPU's sequential offsets and dispatch record for tile counts around the chunk
+/// size and far beyond it, and the one-command-buffer chain (classify, scan, emit, trace
+/// dispatched indirectly from the scan's record) gives the same tiles, list and rays as the CPU.
+#[test]
+fn parallel_scan_and_indirect_trace_match_cpu() {
+    let Some(gpu) = gpu_backend() else { return };
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    for n in [0usize, 1, 63, 64, 65, 127, 1000, 4099] {
+        let tiles: Vec<f32> = (0..n)
+            .flat_map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                let rays = if state % 5 == 0 { 0 } else { (state >> 40) as u32 % 257 };
+                [f32::from_bits(1), f32::from_bits(rays), f32::from_bits(rays), 0.0]
+            })
+            .collect();
+        let (oc, rc) = Runner::new(&Backend::Cpu).sssr_scan(&tiles).unwrap();
+        let (og, rg) = Runner::new(gpu).sssr_scan(&tiles).unwrap();
+        assert_same(&format!("scan of {n} tiles"), 1, &oc, &og);
+        assert_eq!(rc, rg, "scan of {n} tiles: dispatch record");
+        let total: u32 = tiles.chunks_exact(TILE_STRIDE).map(|t| t[1].to_bits()).sum();
+        assert_eq!(oc[n].to_bits(), total, "scan of {n} tiles: total");
+        assert_eq!(rc[0], total, "dispatch record count");
+    }
+    let d = SssrSettings::default();
+    for (name, t) in [("floor", d.clone()), ("hallway", SssrSettings { samples_per_pixel: 4, rays_per_quad: 1, ..d.clone() })] {
+        let g = scene(name).unwrap().render_gbuffer(W, H, 2);
+        let s = SsrSettings { frame: 2, ..SsrSettings::default() };
+        let consts = sssr_params(&g, &s, &t).unwrap();
+        let gbuf = g.packed();
+        let dp = Runner::new(&Backend::Cpu).depth_pyramid(&consts, &g.depth).unwrap();
+        let c = Runner::new(&Backend::Cpu).sssr_list_and_trace(&consts, &gbuf, &dp).unwrap();
+        let mut qr = Runner::new(gpu);
+        let q = qr.sssr_list_and_trace(&consts, &gbuf, &dp).unwrap();
+        assert!(c.count > 1000, "{name}: only {} rays", c.count);
+        assert_eq!(c.count, q.count, "{name}: ray count");
+        assert_same(&format!("{name} chain tiles"), TILE_STRIDE, &c.tiles, &q.tiles);
+        assert_same(&format!("{name} chain offsets"), 1, &c.offsets, &q.offsets);
+        assert_same(&format!("{name} chain list"), LIST_STRIDE, &c.list, &q.list);
+        assert_same(&format!("{name} chain rays"), RAY_STRIDE, &c.rays, &q.rays);
+        let names: Vec<&str> = qr.times.iter().map(|t| t.name.as_str()).collect();
+        assert_eq!(names, ["classify", "compact", "trace"], "{name}: pass times");
+    }
+}

@@ -232,7 +232,7 @@ impl<'a> Runner<'a> {
         Runner { backend, times: Vec::new() }
     }
 
-    fn record(&mut self, name: &str, t: Timing) {
+    pub(crate) fn record(&mut self, name: &str, t: Timing) {
         if let Some(p) = self.times.iter_mut().find(|p| p.name == name) {
             p.seconds += t.seconds;
             if p.source != t.source {

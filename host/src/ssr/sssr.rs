@@ -6,7 +6,8 @@ use super::gbuffer::GBuffer;
 use super::pipeline::{build_params, set_u32, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
-use anyhow::Result;
+use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass};
+use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
 use shader_core::ssr::resolve::OUT_STRIDE;
@@ -150,7 +151,8 @@ impl Runner<'_> {
         }
     }
 
-    /// Prefix sum of the tiles' ray counts (n + 1 words, the last the total).
+    /// Prefix sum of the tiles' ray counts (n + 1 words, the last the total): sequential on the
+    /// CPU, the parallel `sssr_scan` on the GPU.
     pub fn sssr_prefix(&mut self, tiles: &[f32]) -> Result<Vec<f32>> {
         let n = tiles.len() / TILE_STRIDE;
         match self.backend {
@@ -159,7 +161,102 @@ impl Runner<'_> {
                 stochastic::prefix_sum_tiles(tiles, n as u32, &mut out);
                 out
             })),
-            Backend::Gpu(_) => self.gpu_pass("compact", "ssr::sssr_prefix", 1, &[n as u32], &[tiles], n + 1, None),
+            Backend::Gpu(_) => Ok(self.sssr_scan(tiles)?.0),
+        }
+    }
+
+    /// The parallel scan (`sssr_scan`: one workgroup, workgroup memory): tile offsets plus total
+    /// (n + 1 words) and the trace pass's dispatch record (`stochastic::DISPATCH_WORDS`). On the
+    /// CPU: the sequential prefix sum and the same record.
+    pub fn sssr_scan(&mut self, tiles: &[f32]) -> Result<(Vec<f32>, Vec<u32>)> {
+        let n = tiles.len() / TILE_STRIDE;
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("compact", || {
+                let mut out = vec![0.0f32; n + 1];
+                stochastic::prefix_sum_tiles(tiles, n as u32, &mut out);
+                let rec = stochastic::dispatch_record(out[n].to_bits(), shader_kernels::WORKGROUP_SIZE);
+                (out, rec.to_vec())
+            })),
+            Backend::Gpu(g) => {
+                let args = [1u32, 1, n as u32];
+                let bufs = [
+                    ChainBuffer::Input(bytemuck::cast_slice(&args)),
+                    ChainBuffer::Input(bytemuck::cast_slice(tiles)),
+                    ChainBuffer::Output { size: (n + 1) * 4, init: None, read_back: true },
+                    ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: true },
+                ];
+                let pass = ChainPass { entry: "ssr::sssr_scan", reads: vec![0, 1], writes: vec![2, 3], dispatch: ChainDispatch::Direct(1, 1, 1) };
+                let (mut out, times) = g.dispatch_chain(&bufs, &[pass]).context("GPU pass scan")?;
+                self.record("compact", times[0]);
+                let rec: Vec<u32> = bytemuck::cast_slice(&out[3].take().unwrap()).to_vec();
+                let offsets: Vec<f32> = bytemuck::cast_slice(&out[2].take().unwrap()).to_vec();
+                Ok((offsets, rec))
+            }
+        }
+    }
+
+    /// Classification, scan, list and tracing as one unit. On the GPU the four passes run in one
+    /// command buffer with no host round trip: the scan writes the trace pass's dispatch record
+    /// and the trace is dispatched indirectly from it (the list is allocated for every pixel's
+    /// rays; only the scan's total is used). On the CPU: the separate passes.
+    pub fn sssr_list_and_trace(&mut self, consts: &[f32], gbuf: &[f32], depth_pyr: &[f32]) -> Result<ListAndTrace> {
+        let p = SsrParams::load(consts);
+        let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
+        let n = (tx * ty) as usize;
+        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
+        match self.backend {
+            Backend::Cpu => {
+                let tiles = self.sssr_classify(consts, gbuf)?;
+                let offsets = self.sssr_prefix(&tiles)?;
+                let count = offsets[n].to_bits() as usize;
+                let list = self.sssr_emit(consts, gbuf, &offsets)?;
+                let rays = self.sssr_trace(consts, gbuf, depth_pyr, &list, count)?;
+                Ok(ListAndTrace { tiles, offsets, list: list[..count * LIST_STRIDE].to_vec(), count, rays })
+            }
+            Backend::Gpu(g) => {
+                let wg = shader_kernels::WORKGROUP_SIZE;
+                let (gx, gy) = crate::gpu::groups_2d((n as u32).div_ceil(wg));
+                let tile_args = [n as u32, gx];
+                let scan_args = [1u32, 1, n as u32];
+                let zeros = vec![0.0f32; slots * RAY_STRIDE];
+                let bufs = [
+                    ChainBuffer::Input(bytemuck::cast_slice(consts)),
+                    ChainBuffer::Input(bytemuck::cast_slice(gbuf)),
+                    ChainBuffer::Input(bytemuck::cast_slice(depth_pyr)),
+                    ChainBuffer::Input(bytemuck::cast_slice(&tile_args)),
+                    ChainBuffer::Input(bytemuck::cast_slice(&scan_args)),
+                    // 5 tiles, 6 offsets, 7 dispatch record, 8 list, 9 rays
+                    ChainBuffer::Output { size: n * TILE_STRIDE * 4, init: None, read_back: true },
+                    ChainBuffer::Output { size: (n + 1) * 4, init: None, read_back: true },
+                    ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: false },
+                    ChainBuffer::Output { size: slots.max(1) * LIST_STRIDE * 4, init: None, read_back: true },
+                    ChainBuffer::Output { size: slots * RAY_STRIDE * 4, init: Some(bytemuck::cast_slice(&zeros)), read_back: true },
+                ];
+                let direct = ChainDispatch::Direct(gx, gy, 1);
+                let passes = [
+                    ChainPass { entry: "ssr::sssr_classify", reads: vec![3, 0, 1], writes: vec![5], dispatch: direct },
+                    ChainPass { entry: "ssr::sssr_scan", reads: vec![4, 5], writes: vec![6, 7], dispatch: ChainDispatch::Direct(1, 1, 1) },
+                    ChainPass { entry: "ssr::sssr_emit", reads: vec![3, 0, 1, 6], writes: vec![8], dispatch: direct },
+                    ChainPass {
+                        entry: "ssr::sssr_trace",
+                        reads: vec![7, 0, 1, 2, 8],
+                        writes: vec![9],
+                        dispatch: ChainDispatch::Indirect { buffer: 7, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 },
+                    },
+                ];
+                let (mut out, times) = g.dispatch_chain(&bufs, &passes).context("GPU passes classify + scan + emit + trace")?;
+                for (name, t) in ["classify", "compact", "compact", "trace"].iter().zip(times) {
+                    self.record(name, t);
+                }
+                let take = |o: &mut Option<Vec<u8>>| -> Vec<f32> { bytemuck::cast_slice(&o.take().unwrap()).to_vec() };
+                let tiles = take(&mut out[5]);
+                let offsets = take(&mut out[6]);
+                let count = offsets[n].to_bits() as usize;
+                let mut list = take(&mut out[8]);
+                list.truncate(count * LIST_STRIDE);
+                let rays = take(&mut out[9]);
+                Ok(ListAndTrace { tiles, offsets, list, count, rays })
+            }
         }
     }
 
@@ -281,6 +378,20 @@ impl Runner<'_> {
     }
 }
 
+/// What [`Runner::sssr_list_and_trace`] returns.
+#[derive(Clone, Debug)]
+pub struct ListAndTrace {
+    /// `TILE_STRIDE` words per tile.
+    pub tiles: Vec<f32>,
+    /// Exclusive offsets per tile and the total (u32 bits).
+    pub offsets: Vec<f32>,
+    /// The `count` list entries (`LIST_STRIDE` words each).
+    pub list: Vec<f32>,
+    pub count: usize,
+    /// Ray records at pixel * samples + sample.
+    pub rays: Vec<f32>,
+}
+
 /// One frame of stochastic SSR on `gb` (no temporal pass). Returns the result and its ray list.
 pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<(SsrResult, Vec<f32>)> {
     let consts = sssr_params(gb, s, t)?;
@@ -288,12 +399,8 @@ pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSett
     let mut r = Runner::new(backend);
     let depth_pyramid = r.depth_pyramid(&consts, &gb.depth)?;
     let color_pyramid = r.color_pyramid(&consts, &gb.color)?;
-    let tiles = r.sssr_classify(&consts, &gbuf)?;
-    let offsets = r.sssr_prefix(&tiles)?;
+    let ListAndTrace { tiles, list, count, rays, .. } = r.sssr_list_and_trace(&consts, &gbuf, &depth_pyramid)?;
     let n_tiles = tiles.len() / TILE_STRIDE;
-    let count = offsets[n_tiles].to_bits() as usize;
-    let list = r.sssr_emit(&consts, &gbuf, &offsets)?;
-    let rays = r.sssr_trace(&consts, &gbuf, &depth_pyramid, &list, count)?;
     let reflection = r.sssr_resolve(&consts, &gbuf, &color_pyramid, &rays)?;
     let classes: Vec<u32> = tiles.chunks_exact(TILE_STRIDE).map(|c| c[0].to_bits()).collect();
     let stats = TileStats {

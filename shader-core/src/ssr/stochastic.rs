@@ -116,8 +116,9 @@ pub fn classify_tile(p: &SsrParams, gbuf: &[f32], tx: u32, ty: u32) -> (u32, u32
     (class, rays, eligible_px)
 }
 
-/// Exclusive prefix sum of the tiles' ray counts, in tile order (one invocation; identical on
-/// both backends): `offsets[t]` for each of `n` tiles and the total at `offsets[n]`.
+/// Exclusive prefix sum of the tiles' ray counts, in tile order (the CPU backend's compaction
+/// step; the GPU's parallel `sssr_scan` must give the same): `offsets[t]` for each of `n` tiles
+/// and the total at `offsets[n]`.
 pub fn prefix_sum_tiles(tiles: &[f32], n: u32, offsets: &mut [f32]) {
     let mut sum: u32 = 0;
     let mut t: u32 = 0;
@@ -127,6 +128,45 @@ pub fn prefix_sum_tiles(tiles: &[f32], n: u32, offsets: &mut [f32]) {
         t += 1;
     }
     offsets[n as usize] = f32::from_bits(sum);
+}
+
+/// Workgroup of the parallel ray-list scan ([`scan_lane_inclusive`]): lanes per chunk of tiles.
+pub const SCAN_LANES: u32 = 64;
+
+/// Workgroup memory of the scan: two halves of `SCAN_LANES` words (ping-pong).
+pub const SCAN_SHARED: usize = 2 * SCAN_LANES as usize;
+
+/// Words of the trace pass's dispatch record written by the scan: [rays, groups in x, then the
+/// indirect dispatch (groups x, groups y, 1)] (`INDIRECT_OFFSET` words in).
+pub const DISPATCH_WORDS: usize = 5;
+/// Word offset of the (x, y, z) indirect-dispatch arguments inside the dispatch record.
+pub const INDIRECT_OFFSET: usize = 2;
+
+/// 2D dispatch for `groups` workgroups: x <= 65535 groups, y rows of them (at least 1 x 1).
+#[inline]
+pub fn groups_2d(groups: u32) -> (u32, u32) {
+    let gx = if groups < 1 { 1 } else if groups > 65535 { 65535 } else { groups };
+    (gx, (groups + gx - 1) / gx)
+}
+
+/// One Hillis-Steele step of an inclusive scan over `SCAN_LANES` values in `shared[src..]`
+/// (Hillis & Steele 1986): lane's value plus the value `d` lanes before it (0 before lane 0).
+/// The kernel runs log2(64) steps, ping-ponging between two halves of workgroup memory.
+#[inline]
+pub fn scan_lane_inclusive(shared: &[u32; SCAN_SHARED], src: usize, lane: u32, d: u32) -> u32 {
+    let own = shared[src + lane as usize];
+    if lane >= d {
+        own + shared[src + (lane - d) as usize]
+    } else {
+        own
+    }
+}
+
+/// The trace pass's dispatch record for `rays` list entries (see [`DISPATCH_WORDS`]).
+#[inline]
+pub fn dispatch_record(rays: u32, workgroup: u32) -> [u32; DISPATCH_WORDS] {
+    let (gx, gy) = groups_2d((rays + workgroup - 1) / workgroup);
+    [rays, gx, gx, gy, 1]
 }
 
 /// Write tile (tx, ty)'s rays into the list from its offset: pixels in row order within the
