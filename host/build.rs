@@ -13,12 +13,16 @@ fn main() {
     }
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::SPV_PATH).display());
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::MANIFEST_PATH).display());
+    println!("cargo:rerun-if-changed={}", root.join(shader_manifest::SUBGROUP_SPV_PATH).display());
+    println!("cargo:rerun-if-changed={}", root.join(shader_manifest::SUBGROUP_MANIFEST_PATH).display());
     // Copy the committed SPIR-V and manifest into OUT_DIR (empty files when missing) so the
     // binary embeds them and a missing build is reported at run time, not as a compile error.
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").unwrap());
     for (src, dst) in [
         (shader_manifest::SPV_PATH, "shader-kernels.spv"),
         (shader_manifest::MANIFEST_PATH, "shader-kernels.json"),
+        (shader_manifest::SUBGROUP_SPV_PATH, "shader-kernels-subgroup.spv"),
+        (shader_manifest::SUBGROUP_MANIFEST_PATH, "shader-kernels-subgroup.json"),
     ] {
         let bytes = std::fs::read(root.join(src)).unwrap_or_default();
         std::fs::write(out.join(dst), bytes).unwrap();

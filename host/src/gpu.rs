@@ -39,6 +39,8 @@ pub struct GpuContext {
     pub timestamps: bool,
     pub limits: wgpu::Limits,
     module: wgpu::ShaderModule,
+    /// The subgroup module and its entry points, where the adapter has subgroup operations.
+    subgroup_module: Option<(wgpu::ShaderModule, Vec<String>)>,
     pipelines: Mutex<HashMap<(String, usize, usize), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>>,
 }
 
@@ -84,6 +86,14 @@ impl GpuContext {
         if timestamps {
             required |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // Subgroup kernels live in their own module (shader-kernels/src/lib.rs); it needs SPIR-V
+        // passthrough (naga cannot read rust-gpu's modules) and the adapter's subgroup feature.
+        let subgroups = passthrough
+            && features.contains(wgpu::Features::SUBGROUP)
+            && std::env::var_os("HOST_NO_SUBGROUPS").is_none();
+        if subgroups {
+            required |= wgpu::Features::SUBGROUP;
+        }
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("host"),
@@ -126,6 +136,31 @@ impl GpuContext {
         if let Some(err) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(err.to_string()));
         }
+        let subgroup_module = if subgroups {
+            let sg = crate::shaders::load_subgroup().map_err(GpuError::Shader)?;
+            let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = sg
+                .manifest
+                .entry_points
+                .iter()
+                .map(|name| wgpu::PassthroughShaderEntryPoint { name: Cow::Owned(name.clone()), workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1) })
+                .collect();
+            // SAFETY: as for the main module (rust-gpu output, spirv-val'd, manifest checked).
+            let m = unsafe {
+                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                    label: Some("shader-kernels-subgroup"),
+                    entry_points: Cow::Owned(entry_points),
+                    spirv: Some(Cow::Borrowed(&sg.words)),
+                    ..Default::default()
+                })
+            };
+            if let Some(err) = pollster::block_on(scope.pop()) {
+                return Err(GpuError::Shader(format!("subgroup module: {err}")));
+            }
+            Some((m, sg.manifest.entry_points.clone()))
+        } else {
+            None
+        };
         Ok(GpuContext {
             device,
             queue,
@@ -134,6 +169,7 @@ impl GpuContext {
             timestamps,
             limits,
             module,
+            subgroup_module,
             pipelines: Mutex::new(HashMap::new()),
         })
     }
@@ -141,12 +177,13 @@ impl GpuContext {
     /// One line naming the adapter, driver and how shaders and timings are handled.
     pub fn describe(&self) -> String {
         format!(
-            "{} ({:?}, driver {} {}); SPIR-V {}; timings from {}",
+            "{} ({:?}, driver {} {}); SPIR-V {}{}; timings from {}",
             self.info.name,
             self.info.device_type,
             self.info.driver,
             self.info.driver_info,
             if self.passthrough { "passed through unchanged" } else { "translated by naga" },
+            if self.subgroup_module.is_some() { ", subgroup kernels loaded" } else { ", no subgroup kernels" },
             if self.timestamps { "timestamp queries" } else { "wall clock" }
         )
     }
@@ -181,7 +218,10 @@ impl GpuContext {
         let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
             layout: Some(&layout),
-            module: &self.module,
+            module: match &self.subgroup_module {
+                Some((m, names)) if names.iter().any(|n| n == entry) => m,
+                _ => &self.module,
+            },
             entry_point: Some(entry),
             compilation_options: Default::default(),
             cache: None,
@@ -466,6 +506,11 @@ impl GpuContext {
             None => vec![Timing { seconds: wall / passes.len().max(1) as f64, source: TimingSource::WallClock }; passes.len()],
         };
         Ok((out, times))
+    }
+
+    /// Whether the subgroup module (entry points under `ssr_subgroup::`) is loaded.
+    pub fn has_subgroups(&self) -> bool {
+        self.subgroup_module.is_some()
     }
 
     /// Largest storage binding, in bytes.

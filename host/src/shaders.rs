@@ -6,6 +6,9 @@ use shader_manifest::{Manifest, MANIFEST_PATH, REBUILD_COMMAND, SPV_PATH};
 pub const SPV_BYTES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/shader-kernels.spv"));
 /// Its manifest.
 pub const MANIFEST_JSON: &str = include_str!(concat!(env!("OUT_DIR"), "/shader-kernels.json"));
+/// The subgroup module (kernels that need subgroup operations) and its manifest.
+pub const SUBGROUP_SPV_BYTES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/shader-kernels-subgroup.spv"));
+pub const SUBGROUP_MANIFEST_JSON: &str = include_str!(concat!(env!("OUT_DIR"), "/shader-kernels-subgroup.json"));
 /// Hash of the shader sources this binary was compiled from (see `shader-manifest`).
 pub const SOURCE_HASH: &str = env!("SHADER_SOURCE_HASH");
 
@@ -20,6 +23,11 @@ pub struct ShaderModule {
 /// Load and check the embedded module against [`SOURCE_HASH`].
 pub fn load() -> Result<ShaderModule, String> {
     load_checked(SPV_BYTES, MANIFEST_JSON, SOURCE_HASH)
+}
+
+/// Load and check the embedded subgroup module against [`SOURCE_HASH`].
+pub fn load_subgroup() -> Result<ShaderModule, String> {
+    load_checked(SUBGROUP_SPV_BYTES, SUBGROUP_MANIFEST_JSON, SOURCE_HASH).map_err(|e| format!("subgroup module: {e}"))
 }
 
 /// Load `spv` with `manifest_json`, refusing it unless it was built from sources hashing to `source_hash`.

@@ -1,6 +1,6 @@
 //! The GPU backend must refuse SPIR-V that was not built from the current shader sources.
 
-use host::shaders::{load_checked, MANIFEST_JSON, SOURCE_HASH, SPV_BYTES};
+use host::shaders::{load_checked, MANIFEST_JSON, SOURCE_HASH, SPV_BYTES, SUBGROUP_MANIFEST_JSON, SUBGROUP_SPV_BYTES};
 use std::path::{Path, PathBuf};
 
 fn workspace_root() -> PathBuf {
@@ -21,6 +21,12 @@ fn committed_spirv_matches_the_sources_this_binary_was_built_from() {
     // Fails when a shader-core/shader-kernels edit was committed without `cargo xtask build-shaders`.
     let m = load_checked(SPV_BYTES, MANIFEST_JSON, SOURCE_HASH);
     assert!(m.is_ok(), "{}", m.unwrap_err());
+    // The subgroup module is built by the same command from the same sources.
+    let sg = load_checked(SUBGROUP_SPV_BYTES, SUBGROUP_MANIFEST_JSON, SOURCE_HASH);
+    assert!(sg.is_ok(), "subgroup module: {}", sg.unwrap_err());
+    let sg = sg.unwrap();
+    assert_eq!(sg.manifest.entry_points, ["ssr_subgroup::sssr_scan_subgroup"]);
+    assert!(!m.unwrap().manifest.entry_points.iter().any(|e| e.starts_with("ssr_subgroup::")), "subgroup kernels leaked into the main module");
 }
 
 #[test]

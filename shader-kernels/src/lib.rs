@@ -4,22 +4,38 @@
 //! Each kernel is a plain per-invocation function (e.g. [`table::eval_row`]) that both backends
 //! call; the `#[spirv(compute)]` entry points below only map invocation ids to it and are the only
 //! GPU-specific code. On non-SPIR-V targets the `spirv` attribute is inert.
+//!
+//! Two SPIR-V modules are built from this crate: the main one (every kernel below), and, with the
+//! `subgroup-module` feature, one holding only the kernels that need subgroup operations
+//! ([`ssr_subgroup`]). rust-gpu declares capabilities for a whole module and a device without
+//! them cannot load it, so the host loads the second module only where the adapter has subgroups.
 #![no_std]
 
+#[cfg(not(feature = "subgroup-module"))]
 pub mod bxdf_table;
+#[cfg(not(feature = "subgroup-module"))]
 pub mod energy;
+#[cfg(not(feature = "subgroup-module"))]
 pub mod microfacet_table;
+#[cfg(not(feature = "subgroup-module"))]
 pub mod ssr;
+#[cfg(feature = "subgroup-module")]
+pub mod ssr_subgroup;
+#[cfg(not(feature = "subgroup-module"))]
 pub mod table;
+#[cfg(not(feature = "subgroup-module"))]
 pub mod vndf_table;
 
+#[cfg_attr(feature = "subgroup-module", allow(unused_imports))]
 use spirv_std::glam::UVec3;
+#[cfg_attr(feature = "subgroup-module", allow(unused_imports))]
 use spirv_std::spirv;
 
 /// Threads per workgroup of the 1D kernels. Dispatches are 2D (x = 65535 groups at most) and
 /// rows are numbered `x + y * groups_x * WORKGROUP_SIZE`.
 pub const WORKGROUP_SIZE: u32 = 64;
 
+#[cfg_attr(feature = "subgroup-module", allow(dead_code))]
 /// The invocation index of a 1D kernel dispatched as 2D groups (`args` = [count, groups in x,
 /// ...]), or `None` past the end of the work.
 #[inline]
@@ -36,6 +52,7 @@ pub(crate) fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
 ///
 /// `params` = [function id, rows, input stride, output stride, groups in x]. `input` holds
 /// `rows * in_stride` f32 values, row-major; `output` receives `rows * out_stride`.
+#[cfg(not(feature = "subgroup-module"))]
 #[spirv(compute(threads(64)))]
 pub fn eval_table(
     #[spirv(global_invocation_id)] id: UVec3,

@@ -13,6 +13,10 @@ pub const SHADER_CRATES: [&str; 2] = ["shader-core", "shader-kernels"];
 pub const SPV_PATH: &str = "host/shaders/shader-kernels.spv";
 /// Where the committed manifest lives, relative to the workspace root.
 pub const MANIFEST_PATH: &str = "host/shaders/shader-kernels.json";
+/// The second module (only the kernels needing subgroup operations; `subgroup-module` feature).
+pub const SUBGROUP_SPV_PATH: &str = "host/shaders/shader-kernels-subgroup.spv";
+/// Its manifest.
+pub const SUBGROUP_MANIFEST_PATH: &str = "host/shaders/shader-kernels-subgroup.json";
 /// The command that rebuilds both.
 pub const REBUILD_COMMAND: &str = "cargo xtask build-shaders";
 

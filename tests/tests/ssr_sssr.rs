@@ -7,7 +7,7 @@ use crosscheck::{compare_outputs, gpu_backend};
 use host::ssr::cli::errors;
 use host::ssr::pipeline::Runner;
 use host::ssr::pipeline::VndfSampler;
-use host::ssr::sssr::{expected_list, run_sssr, sssr_params, Reprojection, SssrSettings};
+use host::ssr::sssr::{expected_list, run_sssr, sssr_params, Reprojection, ScanKernel, SssrSettings};
 use host::ssr::{render_reference, scene, SsrSettings};
 use host::Backend;
 use shader_core::ssr::params::{idx, SsrParams, REPROJECT_HIT, REPROJECT_SURFACE};
@@ -240,6 +240,15 @@ fn hit_reprojection_beats_surface_motion_under_camera_motion() {
 #[test]
 fn parallel_scan_and_indirect_trace_match_cpu() {
     let Some(gpu) = gpu_backend() else { return };
+    let Backend::Gpu(g) = gpu else { unreachable!() };
+    // Lavapipe has subgroup arithmetic: there the subgroup kernel must be loaded and tested.
+    let kernels: Vec<ScanKernel> = if g.has_subgroups() {
+        vec![ScanKernel::Workgroup, ScanKernel::Subgroup]
+    } else {
+        assert!(!g.info.name.contains("llvmpipe"), "lavapipe has subgroups, but the subgroup module was not loaded");
+        eprintln!("NOTE: {} has no subgroup operations; only the workgroup-memory scan is tested", g.info.name);
+        vec![ScanKernel::Workgroup]
+    };
     let mut state = 0x2545_f491_4f6c_dd1du64;
     for n in [0usize, 1, 63, 64, 65, 127, 1000, 4099] {
         let tiles: Vec<f32> = (0..n)
@@ -252,9 +261,11 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
             })
             .collect();
         let (oc, rc) = Runner::new(&Backend::Cpu).sssr_scan(&tiles).unwrap();
-        let (og, rg) = Runner::new(gpu).sssr_scan(&tiles).unwrap();
-        assert_same(&format!("scan of {n} tiles"), 1, &oc, &og);
-        assert_eq!(rc, rg, "scan of {n} tiles: dispatch record");
+        for &kernel in &kernels {
+            let (og, rg) = Runner::new(gpu).sssr_scan_with(&tiles, kernel).unwrap();
+            assert_same(&format!("{kernel:?} scan of {n} tiles"), 1, &oc, &og);
+            assert_eq!(rc, rg, "{kernel:?} scan of {n} tiles: dispatch record");
+        }
         let total: u32 = tiles.chunks_exact(TILE_STRIDE).map(|t| t[1].to_bits()).sum();
         assert_eq!(oc[n].to_bits(), total, "scan of {n} tiles: total");
         assert_eq!(rc[0], total, "dispatch record count");

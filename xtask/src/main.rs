@@ -2,7 +2,8 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use shader_manifest::{Manifest, MANIFEST_PATH, SPV_PATH};
+use cargo_gpu_install::spirv_builder::Capability;
+use shader_manifest::{Manifest, MANIFEST_PATH, SPV_PATH, SUBGROUP_MANIFEST_PATH, SUBGROUP_SPV_PATH};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -88,8 +89,46 @@ fn build_shaders(check: bool) -> Result<()> {
         backend.rustc_codegen_spirv_location.display()
     );
 
+    build_module(&backend, &root, &shader_crate, &[], &[], SPV_PATH, MANIFEST_PATH, "spirv-builder", check)?;
+    // The subgroup module: only the kernels that need subgroup operations, with their capabilities
+    // (a device without them could not load a module declaring them; see shader-kernels/src/lib.rs).
+    build_module(
+        &backend,
+        &root,
+        &shader_crate,
+        &["subgroup-module"],
+        &[Capability::GroupNonUniform, Capability::GroupNonUniformArithmetic],
+        SUBGROUP_SPV_PATH,
+        SUBGROUP_MANIFEST_PATH,
+        "spirv-builder-subgroup",
+        check,
+    )?;
+    Ok(())
+}
+
+/// Build one SPIR-V module of `shader_crate` (with `features` and extra `capabilities`), apply the
+/// float decorations, and write it and its manifest to `spv_rel` / `manifest_rel` (or, with
+/// `check`, compare against the committed files).
+#[allow(clippy::too_many_arguments)]
+fn build_module(
+    backend: &cargo_gpu_install::install::InstalledBackend,
+    root: &Path,
+    shader_crate: &Path,
+    features: &[&str],
+    capabilities: &[Capability],
+    spv_rel: &str,
+    manifest_rel: &str,
+    target_dir: &str,
+    check: bool,
+) -> Result<()> {
     let t1 = Instant::now();
-    let mut builder = backend.to_spirv_builder(&shader_crate, TARGET);
+    let mut builder = backend.to_spirv_builder(shader_crate, TARGET);
+    if !features.is_empty() {
+        builder = builder.shader_crate_features(features.iter().map(|f| f.to_string()));
+    }
+    for c in capabilities {
+        builder = builder.capability(*c);
+    }
     builder.release = true;
     builder.multimodule = false;
     builder.build_script.defaults = false;
@@ -99,7 +138,7 @@ fn build_shaders(check: bool) -> Result<()> {
     // driver optimizes the module anyway, under the NoContraction decorations added below.
     builder.extra_args.push("--no-spirv-opt".into());
     // Keep the shader build's own target dir outside the host's so a host `cargo build` never races it.
-    builder.target_dir_path = Some(root.join("target").join("spirv-builder"));
+    builder.target_dir_path = Some(root.join("target").join(target_dir));
     let result = builder.build().context("compiling shader-kernels to SPIR-V")?;
     let spv_path = result.module.unwrap_single().to_path_buf();
     let raw = std::fs::read(&spv_path).with_context(|| format!("reading {}", spv_path.display()))?;
@@ -120,7 +159,7 @@ fn build_shaders(check: bool) -> Result<()> {
     );
 
     let manifest = Manifest {
-        source_hash: shader_manifest::source_hash(&root).context("hashing shader sources")?,
+        source_hash: shader_manifest::source_hash(root).context("hashing shader sources")?,
         spv_bytes: spv.len() as u64,
         toolchain: backend.toolchain_channel.clone(),
         spirv_builder: SPIRV_BUILDER.into(),
@@ -128,21 +167,21 @@ fn build_shaders(check: bool) -> Result<()> {
         entry_points,
     };
     let json = manifest.to_json();
-    let spv_out = root.join(SPV_PATH);
-    let manifest_out = root.join(MANIFEST_PATH);
+    let spv_out = root.join(spv_rel);
+    let manifest_out = root.join(manifest_rel);
     if check {
         let old_spv = std::fs::read(&spv_out).unwrap_or_default();
         let old_manifest = std::fs::read_to_string(&manifest_out).unwrap_or_default();
         let mut problems = Vec::new();
         if old_spv != spv {
             problems.push(format!(
-                "{SPV_PATH} differs from a fresh build ({} vs {} bytes)",
+                "{spv_rel} differs from a fresh build ({} vs {} bytes)",
                 old_spv.len(),
                 spv.len()
             ));
         }
         if old_manifest != json {
-            problems.push(format!("{MANIFEST_PATH} differs from a fresh build"));
+            problems.push(format!("{manifest_rel} differs from a fresh build"));
         }
         if !problems.is_empty() {
             bail!(
@@ -150,12 +189,12 @@ fn build_shaders(check: bool) -> Result<()> {
                 problems.join("; ")
             );
         }
-        eprintln!("[build-shaders] --check: committed SPIR-V and manifest are up to date");
+        eprintln!("[build-shaders] --check: committed {spv_rel} and its manifest are up to date");
     } else {
         std::fs::create_dir_all(spv_out.parent().unwrap())?;
         std::fs::write(&spv_out, &spv)?;
         std::fs::write(&manifest_out, json)?;
-        eprintln!("[build-shaders] wrote {SPV_PATH} and {MANIFEST_PATH}");
+        eprintln!("[build-shaders] wrote {spv_rel} and {manifest_rel}");
     }
     Ok(())
 }

@@ -169,6 +169,11 @@ impl Runner<'_> {
     /// (n + 1 words) and the trace pass's dispatch record (`stochastic::DISPATCH_WORDS`). On the
     /// CPU: the sequential prefix sum and the same record.
     pub fn sssr_scan(&mut self, tiles: &[f32]) -> Result<(Vec<f32>, Vec<u32>)> {
+        self.sssr_scan_with(tiles, ScanKernel::Auto)
+    }
+
+    /// [`Runner::sssr_scan`] with a chosen GPU kernel (the CPU ignores the choice).
+    pub fn sssr_scan_with(&mut self, tiles: &[f32], kernel: ScanKernel) -> Result<(Vec<f32>, Vec<u32>)> {
         let n = tiles.len() / TILE_STRIDE;
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("compact", || {
@@ -185,10 +190,12 @@ impl Runner<'_> {
                     ChainBuffer::Output { size: (n + 1) * 4, init: None, read_back: true },
                     ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: true },
                 ];
-                let pass = ChainPass { entry: "ssr::sssr_scan", reads: vec![0, 1], writes: vec![2, 3], dispatch: ChainDispatch::Direct(1, 1, 1) };
+                let entry = kernel.entry(g)?;
+                let pass = ChainPass { entry, reads: vec![0, 1], writes: vec![2, 3], dispatch: ChainDispatch::Direct(1, 1, 1) };
                 let (mut out, times) = g.dispatch_chain(&bufs, &[pass]).context("GPU pass scan")?;
                 self.record("compact", times[0]);
                 let rec: Vec<u32> = bytemuck::cast_slice(&out[3].take().unwrap()).to_vec();
+                check_dispatch_record(&rec, entry)?;
                 let offsets: Vec<f32> = bytemuck::cast_slice(&out[2].take().unwrap()).to_vec();
                 Ok((offsets, rec))
             }
@@ -228,14 +235,15 @@ impl Runner<'_> {
                     // 5 tiles, 6 offsets, 7 dispatch record, 8 list, 9 rays
                     ChainBuffer::Output { size: n * TILE_STRIDE * 4, init: None, read_back: true },
                     ChainBuffer::Output { size: (n + 1) * 4, init: None, read_back: true },
-                    ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: false },
+                    ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: true },
                     ChainBuffer::Output { size: slots.max(1) * LIST_STRIDE * 4, init: None, read_back: true },
                     ChainBuffer::Output { size: slots * RAY_STRIDE * 4, init: Some(bytemuck::cast_slice(&zeros)), read_back: true },
                 ];
                 let direct = ChainDispatch::Direct(gx, gy, 1);
+                let scan_entry = ScanKernel::Auto.entry(g)?;
                 let passes = [
                     ChainPass { entry: "ssr::sssr_classify", reads: vec![3, 0, 1], writes: vec![5], dispatch: direct },
-                    ChainPass { entry: "ssr::sssr_scan", reads: vec![4, 5], writes: vec![6, 7], dispatch: ChainDispatch::Direct(1, 1, 1) },
+                    ChainPass { entry: scan_entry, reads: vec![4, 5], writes: vec![6, 7], dispatch: ChainDispatch::Direct(1, 1, 1) },
                     ChainPass { entry: "ssr::sssr_emit", reads: vec![3, 0, 1, 6], writes: vec![8], dispatch: direct },
                     ChainPass {
                         entry: "ssr::sssr_trace",
@@ -248,6 +256,8 @@ impl Runner<'_> {
                 for (name, t) in ["classify", "compact", "compact", "trace"].iter().zip(times) {
                     self.record(name, t);
                 }
+                let rec: Vec<u32> = bytemuck::cast_slice(&out[7].take().unwrap()).to_vec();
+                check_dispatch_record(&rec, scan_entry)?;
                 let take = |o: &mut Option<Vec<u8>>| -> Vec<f32> { bytemuck::cast_slice(&o.take().unwrap()).to_vec() };
                 let tiles = take(&mut out[5]);
                 let offsets = take(&mut out[6]);
@@ -376,6 +386,39 @@ impl Runner<'_> {
             ),
         }
     }
+}
+
+/// The GPU kernel of the ray-list scan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScanKernel {
+    /// Subgroup scan where the adapter has subgroups, else workgroup memory.
+    Auto,
+    /// Hillis-Steele in workgroup memory (`ssr::sssr_scan`), on every adapter.
+    Workgroup,
+    /// Subgroup inclusive adds (`ssr_subgroup::sssr_scan_subgroup`); an error without subgroups.
+    Subgroup,
+}
+
+impl ScanKernel {
+    fn entry(self, g: &crate::gpu::GpuContext) -> Result<&'static str> {
+        const WG: &str = "ssr::sssr_scan";
+        const SG: &str = "ssr_subgroup::sssr_scan_subgroup";
+        match self {
+            ScanKernel::Auto => Ok(if g.has_subgroups() { SG } else { WG }),
+            ScanKernel::Workgroup => Ok(WG),
+            ScanKernel::Subgroup if g.has_subgroups() => Ok(SG),
+            ScanKernel::Subgroup => anyhow::bail!("the subgroup scan needs an adapter with subgroup operations and SPIR-V passthrough; {} has none", g.info.name),
+        }
+    }
+}
+
+/// A scan's dispatch record must hold a ray count; the subgroup kernel writes `u32::MAX` where the
+/// device's subgroups do not tile the 64-lane workgroup.
+fn check_dispatch_record(rec: &[u32], entry: &str) -> Result<()> {
+    if rec.first() == Some(&u32::MAX) {
+        anyhow::bail!("{entry}: the device's subgroups do not tile a 64-lane workgroup; set HOST_NO_SUBGROUPS=1 to use the workgroup-memory scan");
+    }
+    Ok(())
 }
 
 /// What [`Runner::sssr_list_and_trace`] returns.

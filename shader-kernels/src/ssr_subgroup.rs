@@ -1,0 +1,75 @@
+//! Kernels that use subgroup operations (the second SPIR-V module, built with the
+//! `subgroup-module` feature and the GroupNonUniform / GroupNonUniformArithmetic capabilities).
+
+use shader_core::ssr::stochastic;
+use spirv_std::arch::{subgroup_inclusive_i_add, workgroup_memory_barrier_with_group_sync};
+use spirv_std::spirv;
+
+/// Stochastic SSR, compaction step 1 with subgroup scans: the same exclusive prefix sum and
+/// dispatch record as `ssr::sssr_scan` (one workgroup, chunks of 64 tiles, running total carried),
+/// each chunk scanned by `OpGroupNonUniformIAdd` inclusive scans within subgroups plus the sums
+/// of the preceding subgroups (totals exchanged in workgroup memory). A chunk position is
+/// subgroup * subgroup size + lane in subgroup, so the result does not depend on how the device
+/// maps local invocations to subgroups; it needs full subgroups, and where they are not full
+/// (subgroups x size != 64) the kernel writes `u32::MAX` as the ray count of the dispatch
+/// record and the host reports it. `args[2]` = tile count.
+#[spirv(compute(threads(64)))]
+#[allow(clippy::too_many_arguments)]
+pub fn sssr_scan_subgroup(
+    #[spirv(subgroup_id)] sg: u32,
+    #[spirv(num_subgroups)] n_sg: u32,
+    #[spirv(subgroup_local_invocation_id)] sg_lane: u32,
+    #[spirv(subgroup_size)] sg_size: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] tiles: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] offsets: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] dispatch: &mut [u32],
+    #[spirv(workgroup)] totals: &mut [u32; stochastic::SCAN_LANES as usize],
+) {
+    let lanes = stochastic::SCAN_LANES;
+    let full = n_sg * sg_size == lanes;
+    let pos = sg * sg_size + sg_lane;
+    let n = if full { args[2] } else { 0 };
+    let mut carry: u32 = 0;
+    let mut base: u32 = 0;
+    while base < n {
+        let t = base + pos;
+        let own = if t < n { tiles[(t as usize) * stochastic::TILE_STRIDE + 1].to_bits() } else { 0 };
+        let inclusive = subgroup_inclusive_i_add(own);
+        if sg_lane == sg_size - 1 {
+            totals[sg as usize] = inclusive;
+        }
+        workgroup_memory_barrier_with_group_sync();
+        let mut before: u32 = 0;
+        let mut chunk_total: u32 = 0;
+        let mut k: u32 = 0;
+        while k < n_sg {
+            let v = totals[k as usize];
+            if k < sg {
+                before += v;
+            }
+            chunk_total += v;
+            k += 1;
+        }
+        if t < n {
+            offsets[t as usize] = f32::from_bits(carry + before + inclusive - own);
+        }
+        workgroup_memory_barrier_with_group_sync();
+        carry += chunk_total;
+        base += lanes;
+    }
+    if pos == 0 {
+        let n_tiles = args[2];
+        let rec = if full {
+            offsets[n_tiles as usize] = f32::from_bits(carry);
+            stochastic::dispatch_record(carry, crate::WORKGROUP_SIZE)
+        } else {
+            [u32::MAX, 0, 0, 0, 0]
+        };
+        let mut k = 0;
+        while k < stochastic::DISPATCH_WORDS {
+            dispatch[k] = rec[k];
+            k += 1;
+        }
+    }
+}
