@@ -34,8 +34,8 @@ pub struct BenchArgs {
     /// Also time every configuration on the GPU backend (when a Vulkan adapter exists).
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
-    /// Markdown report.
-    #[arg(long, default_value = "docs/ssr.md")]
+    /// Markdown report (the "Measured comparison" section of docs/ssr.md is one).
+    #[arg(long, default_value = "out/ssr_bench.md")]
     pub report: PathBuf,
     /// PNG of error against time.
     #[arg(long, default_value = "docs/ssr_error_vs_time.png")]
@@ -129,6 +129,9 @@ pub struct Row {
     /// Against the on-screen reference over glossy, non-mirror pixels (where sampling matters).
     pub rough: super::metrics::ErrorStats,
     pub flip: f32,
+    /// Specular (composite x FG) against the reference's specular integral, on-screen reference,
+    /// glossy pixels.
+    pub specular: super::metrics::ErrorStats,
     pub cpu_ms: f64,
     pub cpu_passes: String,
     pub gpu_ms: Option<f64>,
@@ -145,7 +148,7 @@ fn passes(r: &SsrResult) -> (f64, String) {
 }
 
 /// Measure every configuration on one scene.
-pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchArgs) -> Result<(Vec<Row>, Reference)> {
+pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchArgs, lut: &[f32]) -> Result<(Vec<Row>, Reference)> {
     let sc = scene(name)?;
     let frame = if sc.animated() { a.frame } else { 0 };
     let gb = sc.render_gbuffer(a.width, a.height, frame);
@@ -163,6 +166,11 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
         let rough = errors(&res, &rough_ref, sc.sky).algorithm;
         let comp = composite(&res.reflection, sc.sky);
         let flip = flip_mean(&comp, &reference.all, &reference.glossy, gb.width, gb.height);
+        let comp4: Vec<f32> = comp.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
+        let consts = super::pipeline::build_params(&gb, &s)?;
+        let spec = super::pipeline::Runner::new(cpu).specular(&consts, &gb.packed(), &gb.base_color, lut, &comp4)?;
+        let spec_rgb: Vec<f32> = spec.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
+        let specular = super::metrics::error(&spec_rgb, &reference.specular_onscreen, &reference.glossy);
         let (cpu_ms, cpu_passes) = passes(&res);
         let (mut gpu_ms, mut gpu_passes, mut bit_exact) = (None, None, None);
         if let Some(g) = gpu {
@@ -201,6 +209,7 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
             errors: e,
             rough,
             flip,
+            specular,
             cpu_ms,
             cpu_passes,
             gpu_ms,
@@ -231,11 +240,13 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     if let Some(n) = &gpu_name {
         eprintln!("{n}");
     }
+    // Energy tables for the specular column (default precompute, deterministic Sobol points).
+    let lut = crate::energy::precompute(&cpu, &crate::energy::TableSpec::default(), false)?.0.lut_buffer();
     let mut all = Vec::new();
     let mut refs = Vec::new();
     for name in a.scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         eprintln!("scene {name}:");
-        let (rows, r) = bench_scene(&cpu, gpu.as_ref(), name, a)?;
+        let (rows, r) = bench_scene(&cpu, gpu.as_ref(), name, a, &lut)?;
         let on = r.glossy.iter().zip(&r.onscreen_fraction).filter(|(g, f)| **g && **f >= 0.999).count();
         refs.push((name.to_string(), r.glossy.iter().filter(|g| **g).count(), on));
         all.extend(rows);
@@ -254,9 +265,17 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
     let _ = writeln!(s, "## Measured comparison (`host ssr bench`)\n");
     let _ = writeln!(
         s,
-        "Command: `cargo run --release -p host -- ssr bench --width {} --height {} --reference-samples {} --frame {}` \
+        "Command: `cargo run --release -p host -- ssr bench --width {} --height {} --reference-samples {} --frame {} --report {} --plot {}` \
          ({}x{} pixels; reference: {} rays per glossy pixel).\n",
-        a.width, a.height, a.reference_samples, a.frame, a.width, a.height, a.reference_samples
+        a.width,
+        a.height,
+        a.reference_samples,
+        a.frame,
+        a.report.display(),
+        a.plot.display(),
+        a.width,
+        a.height,
+        a.reference_samples
     );
     let _ = writeln!(s, "CPU backend: native, {} threads. GPU backend: {}.\n", crate::cpu::threads(), gpu.unwrap_or("none available"));
     let _ = writeln!(
@@ -265,7 +284,9 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
          rays all stay on screen (the algorithm's own error); **non-mirror rel** = relative RMSE against the on-screen reference over glossy pixels \
          with perceptual roughness >= 0.03 (where ray sampling, reuse and temporal filtering matter); **all glossy** = against the all-geometry reference \
          over every glossy pixel (adds what SSR cannot see); **FLIP** = mean FLIP of the tone-mapped composite \
-         against the tone-mapped all-geometry reference (glossy pixels only); times are the sum over passes \
+         against the tone-mapped all-geometry reference (glossy pixels only); **specular rel** = relative RMSE of the \
+         specular term (composite x preintegrated FG from the energy tables) against the reference's specular integral \
+         (Fresnel inside the integral; on-screen reference, glossy pixels); times are the sum over passes \
          (CPU: wall clock; GPU: timestamp queries; temporal rows: the last frame); **skipped** = fraction of \
          8x8 tiles skipped / of pixels that traced no ray; **bits** = CPU and GPU reflections and ray records \
          identical.\n"
@@ -274,13 +295,13 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
         let _ = writeln!(s, "### {scene} ({glossy} glossy pixels, {on} with all reference rays on screen)\n");
         let _ = writeln!(
             s,
-            "| configuration | on-screen RMSE | on-screen rel | non-mirror rel | all glossy RMSE | all glossy rel | FLIP | CPU ms | GPU ms | skipped tiles / pixels | bits |"
+            "| configuration | on-screen RMSE | on-screen rel | non-mirror rel | all glossy RMSE | all glossy rel | FLIP | specular rel | CPU ms | GPU ms | skipped tiles / pixels | bits |"
         );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
         for r in rows.iter().filter(|r| &r.scene == scene) {
             let _ = writeln!(
                 s,
-                "| {} | {:.4} | {:.3} | {:.3} | {:.4} | {:.3} | {:.4} | {:.1} | {} | {} | {} |",
+                "| {} | {:.4} | {:.3} | {:.3} | {:.4} | {:.3} | {:.4} | {:.3} | {:.1} | {} | {} | {} |",
                 r.config,
                 r.errors.onscreen.rmse,
                 r.errors.onscreen.rel,
@@ -288,6 +309,7 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
                 r.errors.all.rmse,
                 r.errors.all.rel,
                 r.flip,
+                r.specular.rel,
                 r.cpu_ms,
                 r.gpu_ms.map(|t| format!("{t:.1}")).unwrap_or_else(|| "-".into()),
                 match (r.tiles_skipped, r.pixels_skipped) {
