@@ -33,7 +33,15 @@ fn gbuffer_roundtrips_through_exr_and_json() {
     g.save(&p).unwrap();
     let r = GBuffer::load(&p).unwrap();
     assert_eq!((r.width, r.height), (g.width, g.height));
-    for (a, b) in [(&g.depth, &r.depth), (&g.normal, &r.normal), (&g.color, &r.color), (&g.motion, &r.motion), (&g.roughness, &r.roughness)] {
+    for (a, b) in [
+        (&g.depth, &r.depth),
+        (&g.normal, &r.normal),
+        (&g.color, &r.color),
+        (&g.motion, &r.motion),
+        (&g.roughness, &r.roughness),
+        (&g.metalness, &r.metalness),
+        (&g.base_color, &r.base_color),
+    ] {
         assert_eq!(a.len(), b.len());
         assert!(a.iter().zip(b.iter()).all(|(x, y)| x.to_bits() == y.to_bits()));
     }
@@ -75,6 +83,16 @@ fn bad_gbuffers_give_clear_errors() {
     let mut b = g.clone();
     b.motion[9] = f32::INFINITY;
     expect_err(&b, "motion vector is not finite");
+    // Base colour: NaN or outside [0, 1] (pixel named), or a missing channel's worth of values.
+    let mut b = g.clone();
+    b.base_color[3 * (2 * 64 + 4) + 1] = f32::NAN;
+    expect_err(&b, "base color must be in [0, 1], got NaN at pixel (4, 2)");
+    let mut b = g.clone();
+    b.base_color[0] = 1.25;
+    expect_err(&b, "base color must be in [0, 1]");
+    let mut b = g.clone();
+    b.base_color.truncate(3);
+    expect_err(&b, "base color has 3 values");
 }
 
 #[test]
