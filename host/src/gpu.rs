@@ -231,9 +231,9 @@ impl GpuContext {
     }
 
     /// Run entry point `entry` once over `groups` workgroups with bindings 0.. = `inputs`
-    /// (read-only storage) followed by `output_sizes.len()` read-write storage buffers of the
-    /// given byte sizes (zero-initialized, or copied from `output_init` where given), and read
-    /// the outputs back.
+    /// (read-only storage) followed by `outputs.len()` read-write storage buffers of the given
+    /// byte sizes (zero-initialized, or copied from `init` where given), and read the outputs
+    /// back: a one-pass [`GpuContext::dispatch_chain`].
     pub fn dispatch(
         &self,
         entry: &str,
@@ -241,131 +241,16 @@ impl GpuContext {
         outputs: &[OutputSpec<'_>],
         groups: (u32, u32, u32),
     ) -> Result<(Vec<Vec<u8>>, Timing), GpuError> {
-        let (pipeline, bgl) = self.pipeline(entry, inputs.len(), outputs.len());
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let t0 = Instant::now();
-        let mut buffers = Vec::new();
-        for (i, data) in inputs.iter().enumerate() {
-            buffers.push(self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(&format!("{entry} in{i}")),
-                contents: &padded(data),
-                usage: wgpu::BufferUsages::STORAGE,
-            }));
-        }
-        let mut readbacks = Vec::new();
-        for (i, spec) in outputs.iter().enumerate() {
-            let size = spec.size.max(4).next_multiple_of(4) as u64;
-            let buf = match spec.init {
-                Some(init) => self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&format!("{entry} out{i}")),
-                    contents: &padded(init),
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                }),
-                None => self.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(&format!("{entry} out{i}")),
-                    size,
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                }),
-            };
-            readbacks.push(self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(&format!("{entry} readback{i}")),
-                size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
-            buffers.push(buf);
-        }
-        let bind_entries: Vec<wgpu::BindGroupEntry> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
-            .collect();
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(entry),
-            layout: &bgl,
-            entries: &bind_entries,
-        });
-        let query = self.timestamps.then(|| {
-            let set = self.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass time"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            });
-            let resolve = self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let read = self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps readback"),
-                size: 16,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            (set, resolve, read)
-        });
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(entry),
-                timestamp_writes: query.as_ref().map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: Some(0),
-                    end_of_pass_write_index: Some(1),
-                }),
-            });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
-        }
-        for (i, rb) in readbacks.iter().enumerate() {
-            let src = &buffers[inputs.len() + i];
-            encoder.copy_buffer_to_buffer(src, 0, rb, 0, rb.size());
-        }
-        if let Some((set, resolve, read)) = &query {
-            encoder.resolve_query_set(set, 0..2, resolve, 0);
-            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
-        }
-        self.queue.submit([encoder.finish()]);
-        let mut maps: Vec<&wgpu::Buffer> = readbacks.iter().collect();
-        if let Some((_, _, read)) = &query {
-            maps.push(read);
-        }
-        for b in &maps {
-            b.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping a readback buffer"));
-        }
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Runtime(entry.into(), e.to_string()))?;
-        let wall = t0.elapsed().as_secs_f64();
-        if let Some(err) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Runtime(entry.into(), err.to_string()));
-        }
-        let mut results = Vec::new();
-        for (rb, spec) in readbacks.iter().zip(outputs) {
-            let view = rb
-                .get_mapped_range(..)
-                .map_err(|e| GpuError::Runtime(entry.into(), e.to_string()))?;
-            results.push(view[..spec.size].to_vec());
-            drop(view);
-            rb.unmap();
-        }
-        let timing = match &query {
-            Some((_, _, read)) => {
-                let view = read
-                    .get_mapped_range(..)
-                    .map_err(|e| GpuError::Runtime(entry.into(), e.to_string()))?;
-                let t: &[u64] = bytemuck::cast_slice(&view);
-                let ns = t[1].saturating_sub(t[0]) as f64 * f64::from(self.queue.get_timestamp_period());
-                drop(view);
-                read.unmap();
-                Timing { seconds: ns * 1e-9, source: TimingSource::TimestampQuery }
-            }
-            None => Timing { seconds: wall, source: TimingSource::WallClock },
+        let mut buffers: Vec<ChainBuffer<'_>> = inputs.iter().map(|d| ChainBuffer::Input(d)).collect();
+        buffers.extend(outputs.iter().map(|o| ChainBuffer::Output { size: o.size, init: o.init, read_back: true }));
+        let pass = ChainPass {
+            entry,
+            reads: (0..inputs.len()).collect(),
+            writes: (inputs.len()..inputs.len() + outputs.len()).collect(),
+            dispatch: ChainDispatch::Direct(groups.0, groups.1, groups.2),
         };
-        Ok((results, timing))
+        let (out, times) = self.dispatch_chain(&buffers, &[pass])?;
+        Ok((out.into_iter().skip(inputs.len()).map(|o| o.unwrap_or_default()).collect(), times[0]))
     }
 
     /// Run several passes in one command buffer, buffers staying on the device between them (no
@@ -375,6 +260,7 @@ impl GpuContext {
     /// others) and each pass's time (timestamp queries where the adapter has them, else the whole
     /// chain's wall clock on every pass).
     pub fn dispatch_chain(&self, buffers: &[ChainBuffer<'_>], passes: &[ChainPass<'_>]) -> Result<(Vec<Option<Vec<u8>>>, Vec<Timing>), GpuError> {
+        let names = passes.iter().map(|p| p.entry).collect::<Vec<_>>().join(" + ");
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let t0 = Instant::now();
         let mut bufs = Vec::with_capacity(buffers.len());
@@ -473,16 +359,16 @@ impl GpuContext {
         }
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Runtime("chain".into(), e.to_string()))?;
+            .map_err(|e| GpuError::Runtime(names.clone(), e.to_string()))?;
         let wall = t0.elapsed().as_secs_f64();
         if let Some(err) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Runtime(passes.iter().map(|p| p.entry).collect::<Vec<_>>().join(" + "), err.to_string()));
+            return Err(GpuError::Runtime(names, err.to_string()));
         }
         let mut out = Vec::with_capacity(buffers.len());
         for rb in &readbacks {
             out.push(match rb {
                 Some((rb, size)) => {
-                    let view = rb.get_mapped_range(..).map_err(|e| GpuError::Runtime("chain".into(), e.to_string()))?;
+                    let view = rb.get_mapped_range(..).map_err(|e| GpuError::Runtime(names.clone(), e.to_string()))?;
                     let v = view[..*size].to_vec();
                     drop(view);
                     rb.unmap();
@@ -493,7 +379,7 @@ impl GpuContext {
         }
         let times = match &query {
             Some((_, _, read)) => {
-                let view = read.get_mapped_range(..).map_err(|e| GpuError::Runtime("chain".into(), e.to_string()))?;
+                let view = read.get_mapped_range(..).map_err(|e| GpuError::Runtime(names.clone(), e.to_string()))?;
                 let t: &[u64] = bytemuck::cast_slice(&view);
                 let period = f64::from(self.queue.get_timestamp_period());
                 let v = (0..passes.len())
