@@ -172,6 +172,20 @@ pub fn compare_outputs(names: &[&str], cpu: &[f32], gpu: &[f32]) -> Vec<ColumnRe
     cols
 }
 
+/// Assert that two interleaved arrays (`stride` values per element) are bit-identical (NaN = NaN),
+/// printing how many values were compared; the panic names the first differing column and
+/// element. The whole-pass form of the CPU-vs-GPU comparison.
+pub fn assert_bits_equal(what: &str, stride: usize, cpu: &[f32], gpu: &[f32]) {
+    assert_eq!(cpu.len(), gpu.len(), "{what}: CPU has {} values, GPU {}", cpu.len(), gpu.len());
+    let cols: Vec<String> = (0..stride.max(1)).map(|k| format!("{what}[{k}]")).collect();
+    let refs: Vec<&str> = cols.iter().map(|s| s.as_str()).collect();
+    let rep = compare_outputs(&refs, cpu, gpu);
+    let diff: usize = rep.iter().map(|c| c.differing).sum();
+    let first = rep.iter().find_map(|c| c.first_difference.map(|d| (c.name.clone(), d)));
+    eprintln!("{what}: {} values compared, {diff} differ", cpu.len());
+    assert_eq!(diff, 0, "{what}: CPU and GPU differ; first (column, element, cpu, gpu): {first:?}");
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

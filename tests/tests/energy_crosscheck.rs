@@ -2,17 +2,10 @@
 //! sequences, several chunks, so the host-side f64 sums of the f32 partial sums are compared too)
 //! and the white furnace (spheres and table-grid layouts, every compensation mode).
 
-use crosscheck::{compare_outputs, gpu_backend};
+use crosscheck::{assert_bits_equal, gpu_backend};
 use host::energy::{self, Compensation, FurnaceConfig, Sequence, TableSpec};
 use host::Backend;
 
-fn assert_same(what: &str, cpu: &[f32], gpu: &[f32]) {
-    let rep = compare_outputs(&[what], cpu, gpu);
-    let diff: usize = rep.iter().map(|c| c.differing).sum();
-    eprintln!("{what}: {} values compared, {diff} differ", cpu.len());
-    assert_eq!(cpu.len(), gpu.len(), "{what}: lengths");
-    assert_eq!(diff, 0, "{what}: CPU and GPU differ: {:?}", rep.iter().find_map(|c| c.first_difference));
-}
 
 #[test]
 fn precompute_matches_gpu_bit_for_bit() {
@@ -22,9 +15,9 @@ fn precompute_matches_gpu_bit_for_bit() {
         let (c, _) = energy::precompute(&Backend::Cpu, &spec, false).unwrap();
         let (g, _) = energy::precompute(gpu, &spec, false).unwrap();
         let tag = seq.label();
-        assert_same(&format!("{tag} E"), &c.e, &g.e);
-        assert_same(&format!("{tag} E'"), &c.e_prime, &g.e_prime);
-        assert_same(&format!("{tag} E_avg"), &c.e_avg, &g.e_avg);
+        assert_bits_equal(&format!("{tag} E"), 1, &c.e, &g.e);
+        assert_bits_equal(&format!("{tag} E'"), 1, &c.e_prime, &g.e_prime);
+        assert_bits_equal(&format!("{tag} E_avg"), 1, &c.e_avg, &g.e_avg);
     }
 }
 
@@ -40,10 +33,10 @@ fn furnace_matches_gpu_bit_for_bit() {
             let tag = format!("{} metallic {metallic} base {base} {}", mode.label(), seq.label());
             let c = energy::furnace_spheres(&Backend::Cpu, &lut, &cfg, 5, 24).unwrap();
             let g = energy::furnace_spheres(gpu, &lut, &cfg, 5, 24).unwrap();
-            assert_same(&format!("{tag} spheres"), &c.data, &g.data);
+            assert_bits_equal(&format!("{tag} spheres"), 1, &c.data, &g.data);
             let c = energy::furnace_grid(&Backend::Cpu, &lut, &cfg, 32, 32).unwrap();
             let g = energy::furnace_grid(gpu, &lut, &cfg, 32, 32).unwrap();
-            assert_same(&format!("{tag} grid"), &c, &g);
+            assert_bits_equal(&format!("{tag} grid"), 1, &c, &g);
         }
     }
 }

@@ -1,7 +1,7 @@
 //! SSR stage 3 and 4: HDRP passes cross-checked CPU vs GPU (0 ULP), Hi-Z against the brute-force
 //! march, and the HDRP pipeline against the ray-traced reference.
 
-use crosscheck::{compare_outputs, gpu_backend};
+use crosscheck::{assert_bits_equal, gpu_backend};
 use host::ssr::cli::errors;
 use host::ssr::metrics::{composite, error, tonemap};
 use host::ssr::pipeline::{build_params, set_u32, Runner};
@@ -17,21 +17,6 @@ fn gb(name: &str) -> GBuffer {
     scene(name).unwrap().render_gbuffer(W, H, 0)
 }
 
-fn names(n: usize, stride: usize, base: &str) -> Vec<String> {
-    let _ = n;
-    (0..stride).map(|k| format!("{base}[{k}]")).collect()
-}
-
-fn assert_same(what: &str, stride: usize, cpu: &[f32], gpu: &[f32]) {
-    let cols = names(cpu.len(), stride, what);
-    let refs: Vec<&str> = cols.iter().map(|s| s.as_str()).collect();
-    let rep = compare_outputs(&refs, cpu, gpu);
-    let diff: usize = rep.iter().map(|c| c.differing).sum();
-    let first = rep.iter().find_map(|c| c.first_difference.map(|d| (c.name.clone(), d)));
-    eprintln!("{what}: {} values compared, {diff} differ", cpu.len());
-    assert_eq!(diff, 0, "{what}: CPU and GPU differ; first: {first:?}");
-}
-
 /// Every HDRP pass, every tracer and resolve, CPU vs lavapipe: identical bits.
 #[test]
 fn hdrp_passes_match_gpu_bit_for_bit() {
@@ -44,9 +29,9 @@ fn hdrp_passes_match_gpu_bit_for_bit() {
         let mut c = Runner::new(&Backend::Cpu);
         let mut q = Runner::new(gpu);
         let dp = c.depth_pyramid(&consts, &g.depth).unwrap();
-        assert_same("depth pyramid", 1, &dp, &q.depth_pyramid(&consts, &g.depth).unwrap());
+        assert_bits_equal("depth pyramid", 1, &dp, &q.depth_pyramid(&consts, &g.depth).unwrap());
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
-        assert_same("color pyramid", 3, &cp, &q.color_pyramid(&consts, &g.color).unwrap());
+        assert_bits_equal("color pyramid", 3, &cp, &q.color_pyramid(&consts, &g.color).unwrap());
         for (mode, steps, stochastic) in [
             (TRACE_HIZ, 0, false),
             (TRACE_LINEAR, 16, false),
@@ -60,11 +45,11 @@ fn hdrp_passes_match_gpu_bit_for_bit() {
             set_u32(&mut consts, idx::FLAGS, if stochastic { flags | FLAG_STOCHASTIC } else { flags & !FLAG_STOCHASTIC });
             let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
             let rg = q.hdrp_trace(&consts, &gbuf, &dp).unwrap();
-            assert_same(&format!("{name} trace mode {mode} steps {steps} stochastic {stochastic}"), RAY_STRIDE, &rc, &rg);
+            assert_bits_equal(&format!("{name} trace mode {mode} steps {steps} stochastic {stochastic}"), RAY_STRIDE, &rc, &rg);
             for m in [HdrpResolve::Approx, HdrpResolve::Block3x3, HdrpResolve::Cross5] {
                 let oc = c.hdrp_reproject(&consts, &gbuf, &cp, &rc, m).unwrap();
                 let og = q.hdrp_reproject(&consts, &gbuf, &cp, &rc, m).unwrap();
-                assert_same(&format!("{name} resolve {}", m.label()), 4, &oc, &og);
+                assert_bits_equal(&format!("{name} resolve {}", m.label()), 4, &oc, &og);
             }
         }
     }

@@ -4,7 +4,7 @@
 //! the reference's own normalized reflection, the pass must reproduce the reference specular up
 //! to the split-sum error, and two wrong FG forms must do clearly worse.
 
-use crosscheck::{compare_outputs, gpu_backend};
+use crosscheck::{assert_bits_equal, gpu_backend};
 use host::energy::{precompute, TableSpec};
 use host::ssr::pipeline::{run_hdrp, HdrpResolve, Runner, TraceMode};
 use host::ssr::sssr::{run_sssr, sssr_params, SssrSettings};
@@ -41,10 +41,7 @@ fn specular_pass_matches_gpu_bit_for_bit() {
             let q = Runner::new(gpu).specular(&consts, &gbuf, &g.base_color, &lut, refl).unwrap();
             let nonzero = c.chunks_exact(4).filter(|v| v[0] > 0.0).count();
             assert!(nonzero > W * H / 10, "{name} {what}: only {nonzero} pixels with specular");
-            let rep = compare_outputs(&["r", "g", "b", "a"], &c, &q);
-            let diff: usize = rep.iter().map(|r| r.differing).sum();
-            eprintln!("{name} {what} specular: {} values, {diff} differ", c.len());
-            assert_eq!(diff, 0, "{name} {what}: CPU and GPU specular differ");
+            assert_bits_equal(&format!("{name} {what} specular"), 4, &c, &q);
         }
     }
 }

@@ -3,7 +3,7 @@
 //! samplers' pdfs and importance-sampling bias, and the effect of ray reuse and temporal
 //! accumulation (hit-based reprojection against surface motion on the animated scene).
 
-use crosscheck::{compare_outputs, gpu_backend};
+use crosscheck::{assert_bits_equal, gpu_backend};
 use host::ssr::cli::errors;
 use host::ssr::pipeline::Runner;
 use host::ssr::pipeline::VndfSampler;
@@ -18,15 +18,6 @@ use shader_core::vector::Vec3;
 const W: usize = 128;
 const H: usize = 96;
 
-fn assert_same(what: &str, stride: usize, cpu: &[f32], gpu: &[f32]) {
-    let cols: Vec<String> = (0..stride).map(|k| format!("{what}[{k}]")).collect();
-    let refs: Vec<&str> = cols.iter().map(|s| s.as_str()).collect();
-    let rep = compare_outputs(&refs, cpu, gpu);
-    let diff: usize = rep.iter().map(|c| c.differing).sum();
-    let first = rep.iter().find_map(|c| c.first_difference.map(|d| (c.name.clone(), d)));
-    eprintln!("{what}: {} values compared, {diff} differ", cpu.len());
-    assert_eq!(diff, 0, "{what}: CPU and GPU differ; first: {first:?}");
-}
 
 /// Every stochastic pass on both backends, for 1/2/4 rays per quad, 1/4 rays per pixel, with and
 /// without reuse, each visible-normal sampler, the linear march for rough rays, and both temporal
@@ -60,11 +51,11 @@ fn sssr_passes_match_gpu_bit_for_bit() {
         let dp = c.depth_pyramid(&consts, &g.depth).unwrap();
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
         let tiles = c.sssr_classify(&consts, &gbuf).unwrap();
-        assert_same(&format!("{tag} classify"), TILE_STRIDE, &tiles, &q.sssr_classify(&consts, &gbuf).unwrap());
+        assert_bits_equal(&format!("{tag} classify"), TILE_STRIDE, &tiles, &q.sssr_classify(&consts, &gbuf).unwrap());
         let off = c.sssr_prefix(&tiles).unwrap();
-        assert_same(&format!("{tag} prefix"), 1, &off, &q.sssr_prefix(&tiles).unwrap());
+        assert_bits_equal(&format!("{tag} prefix"), 1, &off, &q.sssr_prefix(&tiles).unwrap());
         let list = c.sssr_emit(&consts, &gbuf, &off).unwrap();
-        assert_same(&format!("{tag} list"), LIST_STRIDE, &list, &q.sssr_emit(&consts, &gbuf, &off).unwrap());
+        assert_bits_equal(&format!("{tag} list"), LIST_STRIDE, &list, &q.sssr_emit(&consts, &gbuf, &off).unwrap());
         let count = off[off.len() - 1].to_bits() as usize;
         let want = expected_list(&g, &s, &t).unwrap();
         assert_eq!(count, want.len(), "{tag}: ray count");
@@ -73,13 +64,13 @@ fn sssr_passes_match_gpu_bit_for_bit() {
             assert_eq!(list[k * LIST_STRIDE + 1].to_bits() & 0xff, *smp, "{tag}: entry {k}");
         }
         let rays = c.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap();
-        assert_same(&format!("{tag} trace"), RAY_STRIDE, &rays, &q.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap());
+        assert_bits_equal(&format!("{tag} trace"), RAY_STRIDE, &rays, &q.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap());
         let res = c.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap();
-        assert_same(&format!("{tag} resolve"), 4, &res, &q.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap());
+        assert_bits_equal(&format!("{tag} resolve"), 4, &res, &q.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap());
         // Temporal: a history that is the resolve itself shifted by a frame count, both reprojections.
         let hist: Vec<f32> = res.chunks_exact(4).flat_map(|c| [c[0] * 0.5, c[1], c[2] * 2.0, c[3], 3.0]).collect();
         let dist = c.sssr_hit_distance(&consts, &gbuf, &rays).unwrap();
-        assert_same(&format!("{tag} hit distance"), 1, &dist, &q.sssr_hit_distance(&consts, &gbuf, &rays).unwrap());
+        assert_bits_equal(&format!("{tag} hit distance"), 1, &dist, &q.sssr_hit_distance(&consts, &gbuf, &rays).unwrap());
         assert!(dist.iter().any(|&d| d > 0.0), "{tag}: no hit distance");
         // Temporal, both reprojections. The history has n = 3 everywhere, so an accepted texel
         // gives n = 4 and a rejected one restarts at n = 1: both branches must be exercised
@@ -92,7 +83,7 @@ fn sssr_passes_match_gpu_bit_for_bit() {
             assert!(accepted > W * H / 10, "{tag}: temporal accepted history on only {accepted} pixels");
             restarted_total += restarted;
             let tg = q.sssr_temporal(&consts, &gbuf, &prev, &dist, &res, &hist).unwrap();
-            assert_same(&format!("{tag} temporal (reprojection {mode})"), HISTORY_STRIDE, &tc, &tg);
+            assert_bits_equal(&format!("{tag} temporal (reprojection {mode})"), HISTORY_STRIDE, &tc, &tg);
         }
     }
     assert!(restarted_total > W * H, "temporal: only {restarted_total} restarted pixels over all cases");
@@ -263,7 +254,7 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
         let (oc, rc) = Runner::new(&Backend::Cpu).sssr_scan(&tiles).unwrap();
         for &kernel in &kernels {
             let (og, rg) = Runner::new(gpu).sssr_scan_with(&tiles, kernel).unwrap();
-            assert_same(&format!("{kernel:?} scan of {n} tiles"), 1, &oc, &og);
+            assert_bits_equal(&format!("{kernel:?} scan of {n} tiles"), 1, &oc, &og);
             assert_eq!(rc, rg, "{kernel:?} scan of {n} tiles: dispatch record");
         }
         let total: u32 = tiles.chunks_exact(TILE_STRIDE).map(|t| t[1].to_bits()).sum();
@@ -282,10 +273,10 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
         let q = qr.sssr_list_and_trace(&consts, &gbuf, &dp).unwrap();
         assert!(c.count > 1000, "{name}: only {} rays", c.count);
         assert_eq!(c.count, q.count, "{name}: ray count");
-        assert_same(&format!("{name} chain tiles"), TILE_STRIDE, &c.tiles, &q.tiles);
-        assert_same(&format!("{name} chain offsets"), 1, &c.offsets, &q.offsets);
-        assert_same(&format!("{name} chain list"), LIST_STRIDE, &c.list, &q.list);
-        assert_same(&format!("{name} chain rays"), RAY_STRIDE, &c.rays, &q.rays);
+        assert_bits_equal(&format!("{name} chain tiles"), TILE_STRIDE, &c.tiles, &q.tiles);
+        assert_bits_equal(&format!("{name} chain offsets"), 1, &c.offsets, &q.offsets);
+        assert_bits_equal(&format!("{name} chain list"), LIST_STRIDE, &c.list, &q.list);
+        assert_bits_equal(&format!("{name} chain rays"), RAY_STRIDE, &c.rays, &q.rays);
         let names: Vec<&str> = qr.times.iter().map(|t| t.name.as_str()).collect();
         assert_eq!(names, ["classify", "compact", "trace"], "{name}: pass times");
     }

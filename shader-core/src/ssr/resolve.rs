@@ -199,11 +199,25 @@ pub fn hit_position(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> Vec3 {
 }
 
 #[inline]
-fn store(out: &mut [f32], ob: usize, c: Vec3, a: f32) {
+pub(crate) fn store(out: &mut [f32], ob: usize, c: Vec3, a: f32) {
     out[ob] = c.x;
     out[ob + 1] = c.y;
     out[ob + 2] = c.z;
     out[ob + 3] = a;
+}
+
+/// A weighted neighbourhood resolve's output: (sum of weighted colour, of weighted opacity) over
+/// the sum of weights, premultiplied by the perceptual-roughness fade of surface `s`; zero when
+/// no weight was gathered.
+#[inline]
+pub(crate) fn store_resolved(p: &SsrParams, s: &Surface, acc: Vec3, acc_a: f32, acc_w: f32, out: &mut [f32], ob: usize) {
+    if !(acc_w > 0.0) {
+        store(out, ob, Vec3::ZERO, 0.0);
+        return;
+    }
+    let fade = perceptual_roughness_fade(s.perceptual_roughness, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);
+    let k = fade / acc_w;
+    store(out, ob, acc * k, acc_a * k);
 }
 
 /// HDRP reprojection with `SSR_APPROX`: the hit is reprojected through the motion vectors, the
@@ -312,13 +326,7 @@ pub fn hdrp_resolve_neighborhood(
         }
         dy += 1;
     }
-    if !(acc_w > 0.0) {
-        store(out, ob, Vec3::ZERO, 0.0);
-        return;
-    }
-    let fade = perceptual_roughness_fade(s.perceptual_roughness, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);
-    let k = fade / acc_w;
-    store(out, ob, acc * k, acc_a * k);
+    store_resolved(p, &s, acc, acc_a, acc_w, out, ob);
 }
 
 /// log2(x) for x > 0 by the float's exponent plus its mantissa read linearly (exact operations

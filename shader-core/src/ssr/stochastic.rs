@@ -6,8 +6,8 @@
 
 use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::resolve::{
-    edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit,
-    sample_color, OUT_STRIDE,
+    edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit, sample_color,
+    store as resolve_store, store_resolved, OUT_STRIDE,
 };
 use super::trace::{clampf, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_STRIDE};
 use crate::buffer::{load, store};
@@ -303,13 +303,6 @@ pub fn trace_list_entry(p: &SsrParams, gbuf: &[f32], pyr: &[f32], list: &[f32], 
 }
 
 #[inline]
-fn store4(out: &mut [f32], ob: usize, c: Vec3, a: f32) {
-    out[ob] = c.x;
-    out[ob + 1] = c.y;
-    out[ob + 2] = c.z;
-    out[ob + 3] = a;
-}
-
 /// The BRDF-weighted ratio-estimator resolve of pixel (x, y) (Stachowiak 2015, "ray reuse"):
 /// over the rays of the (2r+1)^2 neighbourhood (or only its own with reuse off),
 /// sum(L_k w_k) / sum(w_k) with w_k = f(v, l_k) cos / pdf_k = D(h) G2(v, l) / (4 n.v) / pdf_k
@@ -321,7 +314,7 @@ fn store4(out: &mut [f32], ob: usize, c: Vec3, a: f32) {
 pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x: u32, y: u32, out: &mut [f32], ob: usize) {
     let s = load_surface(p, gbuf, x, y);
     if !eligible(p, &s) {
-        store4(out, ob, Vec3::ZERO, 0.0);
+        resolve_store(out, ob, Vec3::ZERO, 0.0);
         return;
     }
     let spp = p.samples_per_pixel;
@@ -387,13 +380,7 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x
         }
         dy += 1;
     }
-    if !(acc_w > 0.0) {
-        store4(out, ob, Vec3::ZERO, 0.0);
-        return;
-    }
-    let fade = perceptual_roughness_fade(s.perceptual_roughness, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);
-    let k = fade / acc_w;
-    store4(out, ob, acc * k, acc_a * k);
+    store_resolved(p, &s, acc, acc_a, acc_w, out, ob);
 }
 
 /// The density a ray's hit was drawn with, for the resolve's weights: the generating pixel `sq`'s
