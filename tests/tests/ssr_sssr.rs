@@ -236,8 +236,11 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
     let kernels: Vec<ScanKernel> = if g.has_subgroups() {
         vec![ScanKernel::Workgroup, ScanKernel::Subgroup]
     } else {
-        assert!(!g.info.name.contains("llvmpipe"), "lavapipe has subgroups, but the subgroup module was not loaded");
-        eprintln!("NOTE: {} has no subgroup operations; only the workgroup-memory scan is tested", g.info.name);
+        assert!(
+            !g.info.name.contains("llvmpipe") || std::env::var_os("HOST_NO_SUBGROUPS").is_some(),
+            "lavapipe has subgroups, but the subgroup module was not loaded"
+        );
+        eprintln!("NOTE: subgroup kernels not loaded on {} (no subgroup operations, or HOST_NO_SUBGROUPS set); only the workgroup-memory scan is tested", g.info.name);
         vec![ScanKernel::Workgroup]
     };
     let mut state = 0x2545_f491_4f6c_dd1du64;
