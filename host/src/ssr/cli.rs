@@ -62,10 +62,12 @@ pub struct RunArgs {
     /// Roughness fade starts at 1 - smoothness_fade_start (HDRP default 0.9).
     #[arg(long, default_value_t = 0.5)]
     pub smoothness_fade_start: f32,
-    /// SSSR: rays per 2x2 quad (1, 2 or 4).
+    /// SSSR: tracing pixels per 2x2 quad: 4 = full resolution, 1 = half resolution (one tracing
+    /// pixel per quad, the pattern rotating with the frame), 2 = checkerboard; the other pixels of
+    /// the quad reuse their neighbours' rays in the resolve.
     #[arg(long, default_value_t = 4)]
     pub rays_per_quad: u32,
-    /// SSSR: rays per tracing pixel (1 or 4).
+    /// SSSR: rays per tracing pixel (1 to 8).
     #[arg(long, default_value_t = 1)]
     pub spp: u32,
     /// SSSR: resolve each pixel from its own rays only (no neighbour reuse).
