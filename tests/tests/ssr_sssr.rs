@@ -226,8 +226,8 @@ fn hit_reprojection_beats_surface_motion_under_camera_motion() {
 
 /// The parallel ray-list scan (one workgroup, Hillis-Steele in workgroup memory, chunks of 64
 /// tiles) gives the CPU's sequential offsets and dispatch record for tile counts around the chunk
-/// size and far beyond it, and the one-command-buffer chain (classify, scan, emit, trace
-/// dispatched indirectly from the scan's record) gives the same tiles, list and rays as the CPU.
+/// size and far beyond it, and the one-command-buffer frame (pyramids, classify, scan, emit,
+/// trace dispatched indirectly from the scan's record, resolve) gives the same results as the CPU.
 #[test]
 fn parallel_scan_and_indirect_trace_match_cpu() {
     let Some(gpu) = gpu_backend() else { return };
@@ -270,17 +270,19 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
         let s = SsrSettings { frame: 2, ..SsrSettings::default() };
         let consts = sssr_params(&g, &s, &t).unwrap();
         let gbuf = g.packed();
-        let dp = Runner::new(&Backend::Cpu).depth_pyramid(&consts, &g.depth).unwrap();
-        let c = Runner::new(&Backend::Cpu).sssr_list_and_trace(&consts, &gbuf, &dp).unwrap();
+        let c = Runner::new(&Backend::Cpu).sssr_frame_passes(&consts, &gbuf, &g.depth, &g.color).unwrap();
         let mut qr = Runner::new(gpu);
-        let q = qr.sssr_list_and_trace(&consts, &gbuf, &dp).unwrap();
+        let q = qr.sssr_frame_passes(&consts, &gbuf, &g.depth, &g.color).unwrap();
         assert!(c.count > 1000, "{name}: only {} rays", c.count);
         assert_eq!(c.count, q.count, "{name}: ray count");
+        assert_bits_equal(&format!("{name} chain depth pyramid"), 1, &c.depth_pyramid, &q.depth_pyramid);
+        assert_bits_equal(&format!("{name} chain colour pyramid"), 3, &c.color_pyramid, &q.color_pyramid);
         assert_bits_equal(&format!("{name} chain tiles"), TILE_STRIDE, &c.tiles, &q.tiles);
         assert_bits_equal(&format!("{name} chain offsets"), 1, &c.offsets, &q.offsets);
         assert_bits_equal(&format!("{name} chain list"), LIST_STRIDE, &c.list, &q.list);
         assert_bits_equal(&format!("{name} chain rays"), RAY_STRIDE, &c.rays, &q.rays);
+        assert_bits_equal(&format!("{name} chain resolve"), 4, &c.reflection, &q.reflection);
         let names: Vec<&str> = qr.times.iter().map(|t| t.name.as_str()).collect();
-        assert_eq!(names, ["classify", "compact", "trace"], "{name}: pass times");
+        assert_eq!(names, ["depth pyramid", "color pyramid", "classify", "compact", "trace", "resolve"], "{name}: pass times");
     }
 }

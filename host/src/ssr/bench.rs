@@ -524,3 +524,66 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
     println!("{out}");
     Ok(())
 }
+
+/// `host ssr wall`: wall-clock time of one stochastic frame (pyramids through resolve) on the GPU
+/// backend, with every pass its own submission and read-back (as the per-pass cross-checks run
+/// them) against the whole frame in one command buffer with the indirect trace
+/// (`Runner::sssr_frame_passes`, what `host ssr` uses). Medians over `--repeats` runs after one
+/// warm-up; both include uploads and read-backs.
+#[derive(Clone, Debug, clap::Args)]
+pub struct WallArgs {
+    #[arg(long, default_value = "floor")]
+    pub scene: String,
+    /// Image sizes to time, e.g. 128x128,512x512.
+    #[arg(long, default_value = "128x128,512x512")]
+    pub sizes: String,
+    #[arg(long, default_value_t = 7)]
+    pub repeats: usize,
+}
+
+fn parse_size(s: &str) -> Result<(usize, usize)> {
+    let (w, h) = s.split_once('x').with_context(|| format!("size {s:?} is not WIDTHxHEIGHT"))?;
+    let (w, h): (usize, usize) = (w.trim().parse().with_context(|| format!("width in {s:?}"))?, h.trim().parse().with_context(|| format!("height in {s:?}"))?);
+    anyhow::ensure!(w > 0 && h > 0, "size {s:?} must be positive");
+    Ok((w, h))
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+pub fn run_wall(a: &WallArgs) -> Result<()> {
+    anyhow::ensure!(a.repeats > 0, "--repeats must be at least 1");
+    let gpu = Backend::select(DeviceChoice::Gpu)?;
+    eprintln!("{}", gpu.describe());
+    let sc = scene(&a.scene)?;
+    println!("| size | separate submissions (ms) | one command buffer (ms) | ratio |");
+    println!("|---|---|---|---|");
+    for size in a.sizes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (w, h) = parse_size(size)?;
+        let g = sc.render_gbuffer(w, h, 0);
+        let consts = super::sssr::sssr_params(&g, &SsrSettings::default(), &SssrSettings::default())?;
+        let gbuf = g.packed();
+        let separate = || -> Result<f64> {
+            let t0 = std::time::Instant::now();
+            super::pipeline::Runner::new(&gpu).sssr_frame_passes_separately(&consts, &gbuf, &g.depth, &g.color)?;
+            Ok(t0.elapsed().as_secs_f64() * 1e3)
+        };
+        let chained = || -> Result<f64> {
+            let t0 = std::time::Instant::now();
+            super::pipeline::Runner::new(&gpu).sssr_frame_passes(&consts, &gbuf, &g.depth, &g.color)?;
+            Ok(t0.elapsed().as_secs_f64() * 1e3)
+        };
+        separate()?;
+        chained()?;
+        let (mut s, mut c) = (Vec::new(), Vec::new());
+        for _ in 0..a.repeats {
+            s.push(separate()?);
+            c.push(chained()?);
+        }
+        let (ms, mc) = (median(s), median(c));
+        println!("| {w}x{h} | {ms:.1} | {mc:.1} | {:.2} |", mc / ms);
+    }
+    Ok(())
+}

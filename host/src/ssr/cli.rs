@@ -408,12 +408,16 @@ pub enum SsrSub {
     /// The stochastic pipeline with its parts switched off one at a time (non-mirror error per
     /// roughness band), to locate its error; prints a Markdown table.
     Ablate(super::bench::AblateArgs),
+    /// GPU wall-clock time of one stochastic frame: every pass submitted and read back on its own
+    /// against the whole frame in one command buffer (indirect trace); prints a Markdown table.
+    Wall(super::bench::WallArgs),
 }
 
 pub fn main(cmd: SsrCommand) -> Result<()> {
     match cmd.sub {
         Some(SsrSub::Bench(b)) => super::bench::run(&b),
         Some(SsrSub::Ablate(b)) => super::bench::run_ablate(&b),
+        Some(SsrSub::Wall(b)) => super::bench::run_wall(&b),
         None => run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref()),
     }
 }

@@ -3,14 +3,15 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, set_u32, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, pyramid_texels, set_u32, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass};
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
-use shader_core::ssr::resolve::OUT_STRIDE;
+use shader_core::ssr::params::mip_size;
+use shader_core::ssr::resolve::{COLOR_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
 
@@ -202,72 +203,126 @@ impl Runner<'_> {
         }
     }
 
-    /// Classification, scan, list and tracing as one unit. On the GPU the four passes run in one
-    /// command buffer with no host round trip: the scan writes the trace pass's dispatch record
-    /// and the trace is dispatched indirectly from it (the list is allocated for every pixel's
-    /// rays; only the scan's total is used). On the CPU: the separate passes.
-    pub fn sssr_list_and_trace(&mut self, consts: &[f32], gbuf: &[f32], depth_pyr: &[f32]) -> Result<ListAndTrace> {
+    /// One stochastic frame without the temporal pass: depth and colour pyramids,
+    /// classification, scan, list, tracing and resolve. On the GPU every pass runs in one command
+    /// buffer with no host round trip: the scan writes the trace pass's dispatch record and the
+    /// trace is dispatched indirectly from it (the list is allocated for every pixel's rays; only
+    /// the scan's total is used). On the CPU: the same passes one after the other.
+    pub fn sssr_frame_passes(&mut self, consts: &[f32], gbuf: &[f32], depth: &[f32], color: &[f32]) -> Result<FramePasses> {
         let p = SsrParams::load(consts);
         let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
         let n = (tx * ty) as usize;
-        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
-        match self.backend {
-            Backend::Cpu => {
-                let tiles = self.sssr_classify(consts, gbuf)?;
-                let offsets = self.sssr_prefix(&tiles)?;
-                let count = offsets[n].to_bits() as usize;
-                let list = self.sssr_emit(consts, gbuf, &offsets)?;
-                let rays = self.sssr_trace(consts, gbuf, depth_pyr, &list, count)?;
-                Ok(ListAndTrace { tiles, offsets, list: list[..count * LIST_STRIDE].to_vec(), count, rays })
-            }
-            Backend::Gpu(g) => {
-                let wg = shader_kernels::WORKGROUP_SIZE;
-                let (gx, gy) = crate::gpu::groups_2d((n as u32).div_ceil(wg));
-                let tile_args = [n as u32, gx];
-                let scan_args = [1u32, 1, n as u32];
-                let zeros = vec![0.0f32; slots * RAY_STRIDE];
-                let bufs = [
-                    ChainBuffer::Input(bytemuck::cast_slice(consts)),
-                    ChainBuffer::Input(bytemuck::cast_slice(gbuf)),
-                    ChainBuffer::Input(bytemuck::cast_slice(depth_pyr)),
-                    ChainBuffer::Input(bytemuck::cast_slice(&tile_args)),
-                    ChainBuffer::Input(bytemuck::cast_slice(&scan_args)),
-                    // 5 tiles, 6 offsets, 7 dispatch record, 8 list, 9 rays
-                    ChainBuffer::Output { size: n * TILE_STRIDE * 4, init: None, read_back: true },
-                    ChainBuffer::Output { size: (n + 1) * 4, init: None, read_back: true },
-                    ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: true },
-                    ChainBuffer::Output { size: slots.max(1) * LIST_STRIDE * 4, init: None, read_back: true },
-                    ChainBuffer::Output { size: slots * RAY_STRIDE * 4, init: Some(bytemuck::cast_slice(&zeros)), read_back: true },
-                ];
-                let direct = ChainDispatch::Direct(gx, gy, 1);
-                let scan_entry = ScanKernel::Auto.entry(g)?;
-                let passes = [
-                    ChainPass { entry: "ssr::sssr_classify", reads: vec![3, 0, 1], writes: vec![5], dispatch: direct },
-                    ChainPass { entry: scan_entry, reads: vec![4, 5], writes: vec![6, 7], dispatch: ChainDispatch::Direct(1, 1, 1) },
-                    ChainPass { entry: "ssr::sssr_emit", reads: vec![3, 0, 1, 6], writes: vec![8], dispatch: direct },
-                    ChainPass {
-                        entry: "ssr::sssr_trace",
-                        reads: vec![7, 0, 1, 2, 8],
-                        writes: vec![9],
-                        dispatch: ChainDispatch::Indirect { buffer: 7, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 },
-                    },
-                ];
-                let (mut out, times) = g.dispatch_chain(&bufs, &passes).context("GPU passes classify + scan + emit + trace")?;
-                for (name, t) in ["classify", "compact", "compact", "trace"].iter().zip(times) {
-                    self.record(name, t);
-                }
-                let rec: Vec<u32> = bytemuck::cast_slice(&out[7].take().unwrap()).to_vec();
-                check_dispatch_record(&rec, scan_entry)?;
-                let take = |o: &mut Option<Vec<u8>>| -> Vec<f32> { bytemuck::cast_slice(&o.take().unwrap()).to_vec() };
-                let tiles = take(&mut out[5]);
-                let offsets = take(&mut out[6]);
-                let count = offsets[n].to_bits() as usize;
-                let mut list = take(&mut out[8]);
-                list.truncate(count * LIST_STRIDE);
-                let rays = take(&mut out[9]);
-                Ok(ListAndTrace { tiles, offsets, list, count, rays })
-            }
+        let pixels = (p.width * p.height) as usize;
+        let slots = pixels * p.samples_per_pixel as usize;
+        let g = match self.backend {
+            Backend::Cpu => return self.sssr_frame_passes_separately(consts, gbuf, depth, color),
+            Backend::Gpu(g) => g,
+        };
+        let wg = shader_kernels::WORKGROUP_SIZE;
+        let args_for = |count: usize, extra: &[u32]| -> Vec<u32> {
+            let (gx, _) = crate::gpu::groups_2d((count as u32).div_ceil(wg));
+            let mut a = vec![count as u32, gx];
+            a.extend_from_slice(extra);
+            a
+        };
+        let direct = |count: usize| {
+            let (gx, gy) = crate::gpu::groups_2d((count as u32).div_ceil(wg));
+            ChainDispatch::Direct(gx, gy, 1)
+        };
+        // Argument records: per pyramid level, tiles, scan, pixels.
+        let levels: Vec<(u32, usize)> =
+            (1..p.mip_count).map(|l| (l, (mip_size(p.width, l) * mip_size(p.height, l)) as usize)).collect();
+        let level_args: Vec<Vec<u32>> = levels.iter().map(|&(l, cnt)| args_for(cnt, &[l])).collect();
+        let tile_args = args_for(n, &[]);
+        let scan_args = [1u32, 1, n as u32];
+        let pixel_args = args_for(pixels, &[]);
+        let total = pyramid_texels(p.width, p.height);
+        let mut depth_init = vec![0.0f32; total];
+        depth_init[..depth.len()].copy_from_slice(depth);
+        let mut color_init = vec![0.0f32; total * COLOR_STRIDE];
+        color_init[..color.len()].copy_from_slice(color);
+        let zeros = vec![0.0f32; slots * RAY_STRIDE];
+        let mut bufs = vec![
+            ChainBuffer::Input(bytemuck::cast_slice(consts)),
+            ChainBuffer::Input(bytemuck::cast_slice(gbuf)),
+            ChainBuffer::Input(bytemuck::cast_slice(&tile_args)),
+            ChainBuffer::Input(bytemuck::cast_slice(&scan_args)),
+            ChainBuffer::Input(bytemuck::cast_slice(&pixel_args)),
+            chain_out(total * 4, Some(bytemuck::cast_slice(&depth_init))),
+            chain_out(total * COLOR_STRIDE * 4, Some(bytemuck::cast_slice(&color_init))),
+            chain_out(n * TILE_STRIDE * 4, None),
+            chain_out((n + 1) * 4, None),
+            chain_out(stochastic::DISPATCH_WORDS * 4, None),
+            chain_out(slots.max(1) * LIST_STRIDE * 4, None),
+            chain_out(slots * RAY_STRIDE * 4, Some(bytemuck::cast_slice(&zeros))),
+            chain_out(pixels * OUT_STRIDE * 4, None),
+        ];
+        let (consts_b, gbuf_b, tile_b, scan_b, pixel_b) = (0, 1, 2, 3, 4);
+        let (depth_b, color_b, tiles_b, offsets_b, dispatch_b, list_b, rays_b, refl_b) = (5, 6, 7, 8, 9, 10, 11, 12);
+        let first_level_arg = bufs.len();
+        bufs.extend(level_args.iter().map(|a| ChainBuffer::Input(bytemuck::cast_slice(a))));
+        let scan_entry = ScanKernel::Auto.entry(g)?;
+        let mut passes = Vec::new();
+        let mut names = Vec::new();
+        for (k, &(_, cnt)) in levels.iter().enumerate() {
+            passes.push(ChainPass { entry: "ssr::ssr_hiz_downsample", reads: vec![first_level_arg + k, consts_b], writes: vec![depth_b], dispatch: direct(cnt) });
+            names.push("depth pyramid");
         }
+        for (k, &(_, cnt)) in levels.iter().enumerate() {
+            passes.push(ChainPass { entry: "ssr::ssr_color_downsample", reads: vec![first_level_arg + k, consts_b], writes: vec![color_b], dispatch: direct(cnt) });
+            names.push("color pyramid");
+        }
+        passes.push(ChainPass { entry: "ssr::sssr_classify", reads: vec![tile_b, consts_b, gbuf_b], writes: vec![tiles_b], dispatch: direct(n) });
+        names.push("classify");
+        passes.push(ChainPass { entry: scan_entry, reads: vec![scan_b, tiles_b], writes: vec![offsets_b, dispatch_b], dispatch: ChainDispatch::Direct(1, 1, 1) });
+        names.push("compact");
+        passes.push(ChainPass { entry: "ssr::sssr_emit", reads: vec![tile_b, consts_b, gbuf_b, offsets_b], writes: vec![list_b], dispatch: direct(n) });
+        names.push("compact");
+        passes.push(ChainPass {
+            entry: "ssr::sssr_trace",
+            reads: vec![dispatch_b, consts_b, gbuf_b, depth_b, list_b],
+            writes: vec![rays_b],
+            dispatch: ChainDispatch::Indirect { buffer: dispatch_b, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 },
+        });
+        names.push("trace");
+        passes.push(ChainPass { entry: "ssr::sssr_resolve", reads: vec![pixel_b, consts_b, gbuf_b, color_b, rays_b], writes: vec![refl_b], dispatch: direct(pixels) });
+        names.push("resolve");
+        let (mut res, times) = g.dispatch_chain(&bufs, &passes).context("GPU stochastic SSR frame")?;
+        for (name, t) in names.iter().zip(times) {
+            self.record(name, t);
+        }
+        let rec: Vec<u32> = bytemuck::cast_slice(&res[dispatch_b].take().unwrap()).to_vec();
+        check_dispatch_record(&rec, scan_entry)?;
+        let mut take = |i: usize| -> Vec<f32> { bytemuck::cast_slice(&res[i].take().unwrap()).to_vec() };
+        let offsets = take(offsets_b);
+        let count = offsets[n].to_bits() as usize;
+        let mut list = take(list_b);
+        list.truncate(count * LIST_STRIDE);
+        Ok(FramePasses {
+            depth_pyramid: take(depth_b),
+            color_pyramid: take(color_b),
+            tiles: take(tiles_b),
+            offsets,
+            list,
+            count,
+            rays: take(rays_b),
+            reflection: take(refl_b),
+        })
+    }
+
+    /// [`Runner::sssr_frame_passes`] with every pass submitted (and, on the GPU, read back) on its
+    /// own: the CPU backend's path, and the GPU comparison point of `host ssr wall`.
+    pub fn sssr_frame_passes_separately(&mut self, consts: &[f32], gbuf: &[f32], depth: &[f32], color: &[f32]) -> Result<FramePasses> {
+        let depth_pyramid = self.depth_pyramid(consts, depth)?;
+        let color_pyramid = self.color_pyramid(consts, color)?;
+        let tiles = self.sssr_classify(consts, gbuf)?;
+        let offsets = self.sssr_prefix(&tiles)?;
+        let count = offsets[offsets.len() - 1].to_bits() as usize;
+        let list = self.sssr_emit(consts, gbuf, &offsets)?;
+        let rays = self.sssr_trace(consts, gbuf, &depth_pyramid, &list, count)?;
+        let reflection = self.sssr_resolve(consts, gbuf, &color_pyramid, &rays)?;
+        let list = list[..count * LIST_STRIDE].to_vec();
+        Ok(FramePasses { depth_pyramid, color_pyramid, tiles, offsets, list, count, rays, reflection })
     }
 
     /// The compacted ray list (`LIST_STRIDE` words per ray).
@@ -421,9 +476,18 @@ fn check_dispatch_record(rec: &[u32], entry: &str) -> Result<()> {
     Ok(())
 }
 
-/// What [`Runner::sssr_list_and_trace`] returns.
+/// A chain buffer the passes write and the host reads back.
+fn chain_out(size: usize, init: Option<&[u8]>) -> ChainBuffer<'_> {
+    ChainBuffer::Output { size, init, read_back: true }
+}
+
+/// What [`Runner::sssr_frame_passes`] returns.
 #[derive(Clone, Debug)]
-pub struct ListAndTrace {
+pub struct FramePasses {
+    /// Min-depth pyramid, all levels packed.
+    pub depth_pyramid: Vec<f32>,
+    /// Colour pyramid (RGB), all levels packed.
+    pub color_pyramid: Vec<f32>,
     /// `TILE_STRIDE` words per tile.
     pub tiles: Vec<f32>,
     /// Exclusive offsets per tile and the total (u32 bits).
@@ -433,6 +497,8 @@ pub struct ListAndTrace {
     pub count: usize,
     /// Ray records at pixel * samples + sample.
     pub rays: Vec<f32>,
+    /// The resolve (`OUT_STRIDE` per pixel).
+    pub reflection: Vec<f32>,
 }
 
 /// One frame of stochastic SSR on `gb` (no temporal pass). Returns the result and its ray list.
@@ -440,11 +506,9 @@ pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSett
     let consts = sssr_params(gb, s, t)?;
     let gbuf = gb.packed();
     let mut r = Runner::new(backend);
-    let depth_pyramid = r.depth_pyramid(&consts, &gb.depth)?;
-    let color_pyramid = r.color_pyramid(&consts, &gb.color)?;
-    let ListAndTrace { tiles, list, count, rays, .. } = r.sssr_list_and_trace(&consts, &gbuf, &depth_pyramid)?;
+    let FramePasses { depth_pyramid, color_pyramid, tiles, list, count, rays, reflection, .. } =
+        r.sssr_frame_passes(&consts, &gbuf, &gb.depth, &gb.color)?;
     let n_tiles = tiles.len() / TILE_STRIDE;
-    let reflection = r.sssr_resolve(&consts, &gbuf, &color_pyramid, &rays)?;
     let classes: Vec<u32> = tiles.chunks_exact(TILE_STRIDE).map(|c| c[0].to_bits()).collect();
     let stats = TileStats {
         tiles: n_tiles,
