@@ -455,7 +455,8 @@ fn padded(data: &[u8]) -> Cow<'_, [u8]> {
 }
 
 /// Split `groups` workgroups into a 2D grid within the 65535-per-dimension limit.
+/// (The kernels' own `stochastic::groups_2d`, with at least one row.)
 pub fn groups_2d(groups: u32) -> (u32, u32) {
-    let gx = groups.clamp(1, 65535);
-    (gx, groups.div_ceil(gx).max(1))
+    let (gx, gy) = shader_core::ssr::stochastic::groups_2d(groups);
+    (gx, gy.max(1))
 }

@@ -263,12 +263,6 @@ pub fn sssr_scan(
         base += lanes;
     }
     if lane == 0 {
-        offsets[n as usize] = f32::from_bits(carry);
-        let rec = stochastic::dispatch_record(carry, crate::WORKGROUP_SIZE);
-        let mut k = 0;
-        while k < stochastic::DISPATCH_WORDS {
-            dispatch[k] = rec[k];
-            k += 1;
-        }
+        stochastic::store_scan_total(offsets, dispatch, n, Some(carry), crate::WORKGROUP_SIZE);
     }
 }

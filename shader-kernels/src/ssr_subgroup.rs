@@ -59,17 +59,7 @@ pub fn sssr_scan_subgroup(
         base += lanes;
     }
     if pos == 0 {
-        let n_tiles = args[2];
-        let rec = if full {
-            offsets[n_tiles as usize] = f32::from_bits(carry);
-            stochastic::dispatch_record(carry, crate::WORKGROUP_SIZE)
-        } else {
-            [u32::MAX, 0, 0, 0, 0]
-        };
-        let mut k = 0;
-        while k < stochastic::DISPATCH_WORDS {
-            dispatch[k] = rec[k];
-            k += 1;
-        }
+        let rays = if full { Some(carry) } else { None };
+        stochastic::store_scan_total(offsets, dispatch, args[2], rays, crate::WORKGROUP_SIZE);
     }
 }

@@ -155,6 +155,9 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
     gb.validate()?;
     let s = SsrSettings { frame, ..SsrSettings::default() };
     let reference = render_reference(&sc, &gb, 1.0 - s.min_smoothness, a.reference_samples);
+    // The specular column's inputs, the same for every configuration.
+    let spec_consts = super::pipeline::build_params(&gb, &s)?;
+    let packed = gb.packed();
     let mut rows = Vec::new();
     for c in configs() {
         let res = run_config(cpu, &sc, &gb, &s, &c, frame)?;
@@ -167,8 +170,7 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
         let comp = composite(&res.reflection, sc.sky);
         let flip = flip_mean(&comp, &reference.all, &reference.glossy, gb.width, gb.height);
         let comp4: Vec<f32> = comp.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
-        let consts = super::pipeline::build_params(&gb, &s)?;
-        let spec = super::pipeline::Runner::new(cpu).specular(&consts, &gb.packed(), &gb.base_color, lut, &comp4)?;
+        let spec = super::pipeline::Runner::new(cpu).specular(&spec_consts, &packed, &gb.base_color, lut, &comp4)?;
         let spec_rgb: Vec<f32> = spec.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
         let specular = super::metrics::error(&spec_rgb, &reference.specular_onscreen, &reference.glossy);
         let (cpu_ms, cpu_passes) = passes(&res);

@@ -187,15 +187,12 @@ pub fn build_params(gb: &GBuffer, s: &SsrSettings) -> Result<Vec<f32>> {
     b[idx::TEMPORAL_REPROJECTION] = u(params::REPROJECT_HIT);
     let view = gb.camera.view();
     let proj = gb.camera.proj(gb.width, gb.height);
-    let prev_view = gb.previous_camera.view();
     let prev_proj = gb.previous_camera.proj(gb.width, gb.height);
-    let prev_vp = prev_proj.mul_mat(&prev_view);
     let inv_view = gb.camera.inv_view()?;
     let prev_inv_view = gb.previous_camera.inv_view()?;
     for (base, m) in [
         (idx::VIEW, view),
         (idx::PROJ, proj),
-        (idx::PREV_VIEW_PROJ, prev_vp),
         (idx::INV_VIEW, inv_view),
         (idx::PREV_PROJ, prev_proj),
         (idx::PREV_INV_VIEW, prev_inv_view),
@@ -227,6 +224,15 @@ fn bytes(v: &[f32]) -> &[u8] {
     bytemuck::cast_slice(v)
 }
 
+/// The argument record of a 1D pass over `count` invocations ([count, groups in x, `extra`...],
+/// what `shader_kernels::invocation` reads) and its 2D workgroup grid.
+pub(crate) fn pass_args(count: u32, extra: &[u32]) -> (Vec<u32>, (u32, u32)) {
+    let (gx, gy) = groups_2d(count.div_ceil(shader_kernels::WORKGROUP_SIZE));
+    let mut args = vec![count, gx];
+    args.extend_from_slice(extra);
+    (args, (gx, gy))
+}
+
 impl<'a> Runner<'a> {
     pub fn new(backend: &'a Backend) -> Self {
         Runner { backend, times: Vec::new() }
@@ -252,10 +258,7 @@ impl<'a> Runner<'a> {
     /// buffer of `out_len` floats (initialized from `init` when given).
     pub(crate) fn gpu_pass(&mut self, name: &str, entry: &str, count: u32, extra: &[u32], inputs: &[&[f32]], out_len: usize, init: Option<&[f32]>) -> Result<Vec<f32>> {
         let Backend::Gpu(g) = self.backend else { unreachable!() };
-        let wg = shader_kernels::WORKGROUP_SIZE;
-        let (gx, gy) = groups_2d(count.div_ceil(wg));
-        let mut args = vec![count, gx];
-        args.extend_from_slice(extra);
+        let (args, (gx, gy)) = pass_args(count, extra);
         let mut ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args)];
         ins.extend(inputs.iter().map(|v| bytes(v)));
         let spec = OutputSpec { size: out_len * 4, init: init.map(bytes) };

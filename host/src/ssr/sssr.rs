@@ -3,7 +3,7 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, pyramid_texels, set_u32, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, pass_args, pyramid_texels, set_u32, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass};
@@ -155,15 +155,7 @@ impl Runner<'_> {
     /// Prefix sum of the tiles' ray counts (n + 1 words, the last the total): sequential on the
     /// CPU, the parallel `sssr_scan` on the GPU.
     pub fn sssr_prefix(&mut self, tiles: &[f32]) -> Result<Vec<f32>> {
-        let n = tiles.len() / TILE_STRIDE;
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("compact", || {
-                let mut out = vec![0.0f32; n + 1];
-                stochastic::prefix_sum_tiles(tiles, n as u32, &mut out);
-                out
-            })),
-            Backend::Gpu(_) => Ok(self.sssr_scan(tiles)?.0),
-        }
+        Ok(self.sssr_scan(tiles)?.0)
     }
 
     /// The parallel scan (`sssr_scan`: one workgroup, workgroup memory): tile offsets plus total
@@ -184,7 +176,7 @@ impl Runner<'_> {
                 (out, rec.to_vec())
             })),
             Backend::Gpu(g) => {
-                let args = [1u32, 1, n as u32];
+                let args = scan_pass_args(n);
                 let bufs = [
                     ChainBuffer::Input(bytemuck::cast_slice(&args)),
                     ChainBuffer::Input(bytemuck::cast_slice(tiles)),
@@ -218,15 +210,9 @@ impl Runner<'_> {
             Backend::Cpu => return self.sssr_frame_passes_separately(consts, gbuf, depth, color),
             Backend::Gpu(g) => g,
         };
-        let wg = shader_kernels::WORKGROUP_SIZE;
-        let args_for = |count: usize, extra: &[u32]| -> Vec<u32> {
-            let (gx, _) = crate::gpu::groups_2d((count as u32).div_ceil(wg));
-            let mut a = vec![count as u32, gx];
-            a.extend_from_slice(extra);
-            a
-        };
+        let args_for = |count: usize, extra: &[u32]| pass_args(count as u32, extra).0;
         let direct = |count: usize| {
-            let (gx, gy) = crate::gpu::groups_2d((count as u32).div_ceil(wg));
+            let (gx, gy) = pass_args(count as u32, &[]).1;
             ChainDispatch::Direct(gx, gy, 1)
         };
         // Argument records: per pyramid level, tiles, scan, pixels.
@@ -234,7 +220,7 @@ impl Runner<'_> {
             (1..p.mip_count).map(|l| (l, (mip_size(p.width, l) * mip_size(p.height, l)) as usize)).collect();
         let level_args: Vec<Vec<u32>> = levels.iter().map(|&(l, cnt)| args_for(cnt, &[l])).collect();
         let tile_args = args_for(n, &[]);
-        let scan_args = [1u32, 1, n as u32];
+        let scan_args = scan_pass_args(n);
         let pixel_args = args_for(pixels, &[]);
         let total = pyramid_texels(p.width, p.height);
         let mut depth_init = vec![0.0f32; total];
@@ -476,6 +462,11 @@ fn check_dispatch_record(rec: &[u32], entry: &str) -> Result<()> {
     Ok(())
 }
 
+/// The scan's argument record: one workgroup ([1, 1]), then the tile count.
+fn scan_pass_args(tiles: usize) -> Vec<u32> {
+    pass_args(1, &[tiles as u32]).0
+}
+
 /// A chain buffer the passes write and the host reads back.
 fn chain_out(size: usize, init: Option<&[u8]>) -> ChainBuffer<'_> {
     ChainBuffer::Output { size, init, read_back: true }
@@ -569,7 +560,11 @@ pub fn run_sssr(
             let packed = g.packed();
             let prev = prev_gbuf.take().unwrap_or_else(|| packed.clone());
             let mut r = Runner::new(backend);
-            let dist = r.sssr_hit_distance(&consts, &packed, &res.rays)?;
+            // The hit distance is read only by hit-based reprojection.
+            let dist = match t.reprojection {
+                Reprojection::Hit => r.sssr_hit_distance(&consts, &packed, &res.rays)?,
+                Reprojection::Surface => vec![0.0; n],
+            };
             let out = r.sssr_temporal(&consts, &packed, &prev, &dist, &res.reflection, &hist)?;
             prev_gbuf = Some(packed);
             res.times.extend(r.times);

@@ -43,11 +43,10 @@ pub mod idx {
     pub const HISTORY_ROUGHNESS_TOLERANCE: usize = 28;
     pub const VIEW: usize = 32;
     pub const PROJ: usize = 48;
-    pub const PREV_VIEW_PROJ: usize = 64;
-    pub const INV_VIEW: usize = 80;
-    pub const PREV_PROJ: usize = 96;
-    pub const PREV_INV_VIEW: usize = 112;
-    pub const LEN: usize = 128;
+    pub const INV_VIEW: usize = 64;
+    pub const PREV_PROJ: usize = 80;
+    pub const PREV_INV_VIEW: usize = 96;
+    pub const LEN: usize = 112;
 }
 
 /// Trace modes.
@@ -123,7 +122,6 @@ pub struct SsrParams {
     pub history_roughness_tolerance: f32,
     pub view: Mat4,
     pub proj: Mat4,
-    pub prev_view_proj: Mat4,
     pub inv_view: Mat4,
     /// The previous frame's camera (history rejection reconstructs its positions).
     pub prev_proj: Mat4,
@@ -171,7 +169,6 @@ impl SsrParams {
             history_roughness_tolerance: b[idx::HISTORY_ROUGHNESS_TOLERANCE],
             view: Mat4::load(b, idx::VIEW),
             proj: Mat4::load(b, idx::PROJ),
-            prev_view_proj: Mat4::load(b, idx::PREV_VIEW_PROJ),
             inv_view: Mat4::load(b, idx::INV_VIEW),
             prev_proj: Mat4::load(b, idx::PREV_PROJ),
             prev_inv_view: Mat4::load(b, idx::PREV_INV_VIEW),

@@ -162,6 +162,25 @@ pub fn scan_lane_inclusive(shared: &[u32; SCAN_SHARED], src: usize, lane: u32, d
     }
 }
 
+/// Write the scan's result: the total at `offsets[n]` and the trace pass's dispatch record. The
+/// subgroup scan passes `rays = None` when its subgroups do not tile the workgroup: the record's
+/// ray count is then `u32::MAX` (the host reports it) and `offsets[n]` is left alone.
+#[inline]
+pub fn store_scan_total(offsets: &mut [f32], dispatch: &mut [u32], n: u32, rays: Option<u32>, workgroup: u32) {
+    let rec = match rays {
+        Some(r) => {
+            offsets[n as usize] = f32::from_bits(r);
+            dispatch_record(r, workgroup)
+        }
+        None => [u32::MAX, 0, 0, 0, 0],
+    };
+    let mut k = 0;
+    while k < DISPATCH_WORDS {
+        dispatch[k] = rec[k];
+        k += 1;
+    }
+}
+
 /// The trace pass's dispatch record for `rays` list entries (see [`DISPATCH_WORDS`]).
 #[inline]
 pub fn dispatch_record(rays: u32, workgroup: u32) -> [u32; DISPATCH_WORDS] {
@@ -503,7 +522,8 @@ pub const NO_HISTORY: u32 = u32::MAX;
 /// there lies on the current pixel's tangent plane (|n.(P_prev - P)| <= history_depth_tolerance *
 /// depth, world space) with a normal within history_normal_cos and a perceptual roughness within
 /// history_roughness_tolerance of `rough`; otherwise [`NO_HISTORY`]. Written without early
-/// returns (every test evaluated, the texel index clamped).
+/// returns (every test evaluated, the texel index clamped), since llvmpipe nests the code after
+/// each return (see `crate::buffer`).
 #[allow(clippy::too_many_arguments)]
 pub fn history_texel(p: &SsrParams, prev_gbuf: &[f32], history: &[f32], n_world: Vec3, p_world: Vec3, depth: f32, rough: f32, u: f32, v: f32) -> u32 {
     let on_screen = u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0;
@@ -559,7 +579,8 @@ pub fn temporal_pixel(
     let cur_a = load(current, cb + 3);
     let gi = i * super::trace::GBUF_STRIDE;
     let s = load_surface(p, gbuf, x, y);
-    let geometry = load(gbuf, gi) > 0.0 && load(gbuf, gi) < f32::INFINITY;
+    let z = load(gbuf, gi);
+    let geometry = z > 0.0 && z < f32::INFINITY;
     let n_world = Vec3::new(load(gbuf, gi + 1), load(gbuf, gi + 2), load(gbuf, gi + 3));
     let p_world = p.inv_view.transform_point(s.pos);
     // Both candidates are evaluated unconditionally and selected afterwards (straight-line code).
