@@ -3,6 +3,7 @@
 use crate::gpu::{groups_2d, GpuContext, GpuError, OutputSpec};
 use crate::timing::{Timing, TimingSource};
 use anyhow::{bail, Context, Result};
+use shader_kernels::eval::{EvalArgs, FunctionInfo};
 use std::time::Instant;
 
 /// What the user asked for.
@@ -84,19 +85,24 @@ impl Backend {
         matches!(self, Backend::Gpu(_))
     }
 
-    /// Evaluate registered function `id` over `rows` rows of `in_stride` inputs, returning
-    /// `rows * out_stride` outputs and the time taken.
-    pub fn eval_table(&self, id: u32, input: &[f32], in_stride: usize, out_stride: usize, rows: usize) -> Result<(Vec<f32>, Timing)> {
+    /// Evaluate `f` over `rows` rows of its input columns (`input` holds `rows * f.inputs.len()`
+    /// values, row-major), returning `rows * f.outputs.len()` outputs and the time taken. The GPU
+    /// runs `f`'s own entry point; the CPU runs its batch loop on all cores.
+    pub fn eval_table(&self, f: &FunctionInfo, input: &[f32], rows: usize) -> Result<(Vec<f32>, Timing)> {
+        let (in_stride, out_stride) = (f.inputs.len(), f.outputs.len());
         if input.len() != rows * in_stride {
-            bail!("input has {} values, expected {rows} rows x {in_stride}", input.len());
+            bail!("{}: input has {} values, expected {rows} rows x {in_stride} columns", f.name, input.len());
         }
         match self {
             Backend::Cpu => {
                 let t0 = Instant::now();
-                let out = crate::cpu::eval_table(id, input, in_stride, out_stride, rows);
+                let out = crate::cpu::eval_table(f, input, rows);
                 Ok((out, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock }))
             }
             Backend::Gpu(g) => {
+                if rows == 0 {
+                    return Ok((Vec::new(), Timing { seconds: 0.0, source: TimingSource::WallClock }));
+                }
                 let wg = shader_kernels::WORKGROUP_SIZE as usize;
                 let max_bytes = g.max_binding_bytes();
                 let per_row = 4 * in_stride.max(out_stride).max(1);
@@ -104,25 +110,22 @@ impl Backend {
                 let mut out = Vec::with_capacity(rows * out_stride);
                 let mut total: Option<Timing> = None;
                 let mut start = 0;
-                while start < rows || (rows == 0 && start == 0) {
+                while start < rows {
                     let n = (rows - start).min(chunk_rows);
                     let (gx, gy) = groups_2d(n.div_ceil(wg) as u32);
-                    let params = [id, n as u32, in_stride as u32, out_stride as u32, gx];
+                    let args = EvalArgs { rows: n as u32, groups_x: gx };
                     let chunk = &input[start * in_stride..(start + n) * in_stride];
                     let (res, t) = g
                         .dispatch(
-                            "eval_table",
-                            &[bytemuck::cast_slice(&params), bytemuck::cast_slice(chunk)],
+                            f.entry,
+                            &[bytemuck::bytes_of(&args), bytemuck::cast_slice(chunk)],
                             &[OutputSpec::zeroed(n * out_stride * 4)],
                             (gx, gy, 1),
                         )
-                        .with_context(|| format!("rows {start}..{}", start + n))?;
-                    out.extend_from_slice(bytemuck::cast_slice(&res[0]));
+                        .with_context(|| format!("{}: rows {start}..{}", f.name, start + n))?;
+                    out.extend_from_slice(&bytemuck::pod_collect_to_vec::<u8, f32>(&res[0]));
                     total = Some(match total { Some(a) => a.add(t), None => t });
                     start += n;
-                    if rows == 0 {
-                        break;
-                    }
                 }
                 Ok((out, total.expect("at least one dispatch")))
             }

@@ -33,6 +33,7 @@
 use crate::timing::{cpu_model, load_average};
 use crate::backend::{Backend, DeviceChoice};
 use crate::eval::find_function;
+use shader_kernels::eval::FunctionInfo;
 use crate::ggx_fp16;
 use crate::microfacet_ref as r64;
 use anyhow::{bail, Context, Result};
@@ -58,6 +59,11 @@ pub enum BenchWhat {
     /// samples below the horizon, samples/s (CPU and GPU backends), variance of a one-sample
     /// albedo estimator and its error at equal time. Writes docs/vndf-bench.md and .png.
     Vndf(crate::bench_vndf::VndfArgs),
+    /// Evaluations/s of every evaluable function on the CPU backend (all threads and one
+    /// thread) and the GPU backend, the driver compile time of each entry point, and the
+    /// rust-gpu / hand-written WGSL rate ratio for ggx_d and sample_vndf_heitz. Writes
+    /// out/kernel-rates.md and .json.
+    Kernels(crate::bench_kernels::KernelsArgs),
 }
 
 /// Options of `host bench microfacet`.
@@ -92,6 +98,7 @@ impl BenchCli {
         match self.what {
             BenchWhat::Microfacet(a) => run(&a),
             BenchWhat::Vndf(a) => crate::bench_vndf::run(&a),
+            BenchWhat::Kernels(a) => crate::bench_kernels::run(&a),
         }
     }
 }
@@ -355,13 +362,13 @@ fn best_and_median(mut v: Vec<f64>) -> (f64, f64) {
 }
 
 /// Evaluations per second of `id` over `table` on `backend`: (fastest run, median run, timing source).
-fn time_backend(backend: &Backend, id: u32, table: &[f32], in_stride: usize, out_stride: usize, repeats: usize, pb: &indicatif::ProgressBar) -> Result<(f64, f64, String)> {
-    let rows = table.len() / in_stride;
-    let (_, warm) = backend.eval_table(id, table, in_stride, out_stride, rows)?;
+fn time_backend(backend: &Backend, f: &FunctionInfo, table: &[f32], repeats: usize, pb: &indicatif::ProgressBar) -> Result<(f64, f64, String)> {
+    let rows = table.len() / f.inputs.len();
+    let (_, warm) = backend.eval_table(f, table, rows)?;
     pb.inc(1);
     let mut secs = Vec::with_capacity(repeats);
     for _ in 0..repeats {
-        let (_, t) = backend.eval_table(id, table, in_stride, out_stride, rows)?;
+        let (_, t) = backend.eval_table(f, table, rows)?;
         secs.push(t.seconds);
         pb.inc(1);
     }
@@ -403,7 +410,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
                         rows.push(column(col, p)?);
                     }
                 }
-                let (vals, _) = cpu.eval_table(f.id, &rows, f.inputs.len(), f.outputs.len(), pts.len())?;
+                let (vals, _) = cpu.eval_table(f, &rows, pts.len())?;
                 (vals, Some((f, rows)))
             }
         };
@@ -428,11 +435,11 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
                 let r = i % n;
                 table.extend_from_slice(&rows[r * stride..(r + 1) * stride]);
             }
-            let (c, cm, _) = time_backend(&cpu, f.id, &table, stride, f.outputs.len(), a.repeats, &pb)?;
+            let (c, cm, _) = time_backend(&cpu, f, &table, a.repeats, &pb)?;
             m.cpu_evals_per_s = Some(c);
             m.cpu_median_per_s = Some(cm);
             if let Some(g) = &gpu {
-                let (r, rm, src) = time_backend(g, f.id, &table, stride, f.outputs.len(), a.repeats, &pb).with_context(|| format!("timing {} on the GPU", f.name))?;
+                let (r, rm, src) = time_backend(g, f, &table, a.repeats, &pb).with_context(|| format!("timing {} on the GPU", f.name))?;
                 m.gpu_evals_per_s = Some(r);
                 m.gpu_median_per_s = Some(rm);
                 m.gpu_timing = Some(src);

@@ -26,6 +26,7 @@
 use crate::timing::{cpu_model, load_average};
 use crate::backend::{Backend, DeviceChoice};
 use crate::eval::find_function;
+use shader_kernels::eval::FunctionInfo;
 use crate::microfacet_ref as r64;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
@@ -186,17 +187,17 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Median samples per second of each function of `ids` over `table` on `backend`, and the timing
 /// source. The functions take turns (one warm-up round, then `repeats` timed rounds), so a change
 /// in the machine's load during the measurement affects every method alike.
-fn time_backend(backend: &Backend, ids: &[u32], table: &[f32], repeats: usize) -> Result<(Vec<f64>, String)> {
+fn time_backend(backend: &Backend, fs: &[&FunctionInfo], table: &[f32], repeats: usize) -> Result<(Vec<f64>, String)> {
     let rows = table.len() / 7;
     let mut source = String::new();
-    for &id in ids {
-        let (_, warm) = backend.eval_table(id, table, 7, 4, rows)?;
+    for &f in fs {
+        let (_, warm) = backend.eval_table(f, table, rows)?;
         source = warm.source.to_string();
     }
-    let mut secs = vec![Vec::with_capacity(repeats); ids.len()];
+    let mut secs = vec![Vec::with_capacity(repeats); fs.len()];
     for _ in 0..repeats {
-        for (k, &id) in ids.iter().enumerate() {
-            let (_, t) = backend.eval_table(id, table, 7, 4, rows)?;
+        for (k, &f) in fs.iter().enumerate() {
+            let (_, t) = backend.eval_table(f, table, rows)?;
             secs[k].push(t.seconds);
         }
     }
@@ -239,7 +240,7 @@ pub fn run(a: &VndfArgs) -> Result<()> {
         let mut per_point = Vec::with_capacity(pts.len());
         for (k, p) in pts.iter().enumerate() {
             let rows = sample_rows(p, a.samples, k as u32);
-            let (out, _) = cpu.eval_table(f.id, &rows, 7, 4, a.samples).with_context(|| format!("sampling {name}"))?;
+            let (out, _) = cpu.eval_table(f, &rows, a.samples).with_context(|| format!("sampling {name}"))?;
             let s = stats(p, a.f0, &out);
             anyhow::ensure!(s.bad == 0, "{name} alpha {} theta {}: {} invalid samples", p.alpha, p.theta_deg, s.bad);
             per_point.push(s);
@@ -247,7 +248,7 @@ pub fn run(a: &VndfArgs) -> Result<()> {
         eprintln!("{name}: statistics in {:.1} s", t0.elapsed().as_secs_f64());
         results.push(MethodResult { name, label, stats: per_point, cpu_rate: 0.0, gpu_rate: None });
     }
-    let ids = METHODS.iter().map(|(name, _)| find_function(name).map(|f| f.id)).collect::<Result<Vec<u32>>>()?;
+    let ids = METHODS.iter().map(|(name, _)| find_function(name)).collect::<Result<Vec<&FunctionInfo>>>()?;
     let (cpu_rates, _) = time_backend(&cpu, &ids, &timing_table, a.repeats)?;
     let mut gpu_source = None;
     let gpu_rates = match &gpu {

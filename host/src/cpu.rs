@@ -2,18 +2,25 @@
 //! invocation, spread over all cores with rayon.
 
 use rayon::prelude::*;
+use shader_kernels::eval::FunctionInfo;
 
-/// Evaluate registered function `id` over `rows` rows (see `shader_kernels::table`).
-pub fn eval_table(id: u32, input: &[f32], in_stride: usize, out_stride: usize, rows: usize) -> Vec<f32> {
-    assert_eq!(input.len(), rows * in_stride, "input size");
-    let mut out = vec![0.0f32; rows * out_stride];
-    if out_stride == 0 {
+/// Rows per work item of the CPU batch loops: large enough that the per-chunk call is noise,
+/// small enough to balance the cores.
+const ROWS_PER_CHUNK: usize = 4096;
+
+/// Evaluate `f` over `rows` rows with its batch loop, chunks of rows spread over all cores.
+pub fn eval_table(f: &FunctionInfo, input: &[f32], rows: usize) -> Vec<f32> {
+    let (ni, no) = (f.inputs.len(), f.outputs.len());
+    assert_eq!(input.len(), rows * ni, "{}: input size", f.name);
+    let mut out = vec![0.0f32; rows * no];
+    if no == 0 || rows == 0 {
         return out;
     }
-    out.par_chunks_mut(out_stride)
-        .with_min_len(256)
-        .enumerate()
-        .for_each(|(row, y)| shader_kernels::table::eval_row(id, input, row * in_stride, y, 0));
+    out.par_chunks_mut(ROWS_PER_CHUNK * no).enumerate().for_each(|(k, y)| {
+        let r0 = k * ROWS_PER_CHUNK;
+        let n = y.len() / no;
+        (f.cpu_rows)(&input[r0 * ni..(r0 + n) * ni], y)
+    });
     out
 }
 

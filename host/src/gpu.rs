@@ -39,9 +39,15 @@ pub struct GpuContext {
     pub timestamps: bool,
     pub limits: wgpu::Limits,
     module: wgpu::ShaderModule,
+    /// The main module's entry points (from its manifest).
+    entry_points: Vec<String>,
     /// The subgroup module and its entry points, where the adapter has subgroup operations.
     subgroup_module: Option<(wgpu::ShaderModule, Vec<String>)>,
+    /// Modules added at run time (the benches' WGSL speed references) and their entry points.
+    extra_modules: Mutex<Vec<(wgpu::ShaderModule, Vec<String>)>>,
     pipelines: Mutex<HashMap<(String, usize, usize), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>>,
+    /// Seconds the driver took to create each entry point's pipeline (its compile), first use.
+    compile_seconds: Mutex<HashMap<String, f64>>,
 }
 
 fn adapter_rank(t: wgpu::DeviceType) -> u32 {
@@ -169,8 +175,11 @@ impl GpuContext {
             timestamps,
             limits,
             module,
+            entry_points: shader.manifest.entry_points.clone(),
             subgroup_module,
+            extra_modules: Mutex::new(Vec::new()),
             pipelines: Mutex::new(HashMap::new()),
+            compile_seconds: Mutex::new(HashMap::new()),
         })
     }
 
@@ -188,12 +197,50 @@ impl GpuContext {
         )
     }
 
-    fn pipeline(&self, entry: &str, n_read: usize, n_write: usize) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
-        let key = (entry.to_string(), n_read, n_write);
-        let mut cache = self.pipelines.lock().unwrap();
-        if let Some(p) = cache.get(&key) {
-            return p.clone();
+    /// Compile a WGSL module (naga) whose entry points `entries` then dispatch like the SPIR-V
+    /// ones. For speed references only: naga's translation is not bit-exact with the kernels.
+    pub fn add_wgsl(&self, label: &str, source: &str, entries: &[&str]) -> Result<(), GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let m = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(source)),
+        });
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(format!("{label}: {err}")));
         }
+        self.extra_modules.lock().unwrap().push((m, entries.iter().map(|e| e.to_string()).collect()));
+        Ok(())
+    }
+
+    /// The module holding `entry`, or an error naming the entry points there are.
+    fn module_for(&self, entry: &str) -> Result<wgpu::ShaderModule, GpuError> {
+        if let Some((m, _)) = self.extra_modules.lock().unwrap().iter().find(|(_, names)| names.iter().any(|n| n == entry)) {
+            return Ok(m.clone());
+        }
+        match &self.subgroup_module {
+            Some((m, names)) if names.iter().any(|n| n == entry) => return Ok(m.clone()),
+            _ => {}
+        }
+        if self.entry_points.iter().any(|n| n == entry) {
+            Ok(self.module.clone())
+        } else {
+            Err(GpuError::Shader(format!(
+                "the SPIR-V module has no entry point {entry:?} (it has {}); rebuild it with `cargo xtask build-shaders`",
+                self.entry_points.len()
+            )))
+        }
+    }
+
+    /// Create (once) and return the pipeline of `entry` with `n_read` read-only then `n_write`
+    /// read-write storage bindings. The first creation's driver compile time is recorded
+    /// ([`GpuContext::compile_seconds`]).
+    fn pipeline(&self, entry: &str, n_read: usize, n_write: usize) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
+        let key = (entry.to_string(), n_read, n_write);
+        if let Some(p) = self.pipelines.lock().unwrap().get(&key) {
+            return Ok(p.clone());
+        }
+        let module = self.module_for(entry)?;
+        let t0 = Instant::now();
         let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..n_read + n_write)
             .map(|i| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
@@ -218,16 +265,30 @@ impl GpuContext {
         let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
             layout: Some(&layout),
-            module: match &self.subgroup_module {
-                Some((m, names)) if names.iter().any(|n| n == entry) => m,
-                _ => &self.module,
-            },
+            module: &module,
             entry_point: Some(entry),
             compilation_options: Default::default(),
             cache: None,
         });
-        cache.insert(key, (pipeline.clone(), bgl.clone()));
-        (pipeline, bgl)
+        self.compile_seconds.lock().unwrap().entry(entry.to_string()).or_insert(t0.elapsed().as_secs_f64());
+        self.pipelines.lock().unwrap().insert(key, (pipeline.clone(), bgl.clone()));
+        Ok((pipeline, bgl))
+    }
+
+    /// Create `entry`'s pipeline now (outside any timed region) and return the seconds its
+    /// creation took: the driver's compile of that entry point, on first use.
+    pub fn prepare(&self, entry: &str, n_read: usize, n_write: usize) -> Result<f64, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        self.pipeline(entry, n_read, n_write)?;
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(format!("{entry}: {err}")));
+        }
+        Ok(self.compile_seconds(entry).unwrap_or(0.0))
+    }
+
+    /// Seconds the first pipeline creation of `entry` took, if it was created.
+    pub fn compile_seconds(&self, entry: &str) -> Option<f64> {
+        self.compile_seconds.lock().unwrap().get(entry).copied()
     }
 
     /// Run entry point `entry` once over `groups` workgroups with bindings 0.. = `inputs`
@@ -261,6 +322,11 @@ impl GpuContext {
     /// chain's wall clock on every pass).
     pub fn dispatch_chain(&self, buffers: &[ChainBuffer<'_>], passes: &[ChainPass<'_>]) -> Result<(Vec<Option<Vec<u8>>>, Vec<Timing>), GpuError> {
         let names = passes.iter().map(|p| p.entry).collect::<Vec<_>>().join(" + ");
+        // Pipelines first (an unknown entry point is an error before any GPU work is recorded).
+        let pipelines = passes
+            .iter()
+            .map(|p| self.pipeline(p.entry, p.reads.len(), p.writes.len()))
+            .collect::<Result<Vec<_>, GpuError>>()?;
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let t0 = Instant::now();
         let mut bufs = Vec::with_capacity(buffers.len());
@@ -316,7 +382,7 @@ impl GpuContext {
         });
         let mut encoder = self.device.create_command_encoder(&Default::default());
         for (k, pass_spec) in passes.iter().enumerate() {
-            let (pipeline, bgl) = self.pipeline(pass_spec.entry, pass_spec.reads.len(), pass_spec.writes.len());
+            let (pipeline, bgl) = &pipelines[k];
             let entries: Vec<wgpu::BindGroupEntry> = pass_spec
                 .reads
                 .iter()
@@ -324,7 +390,7 @@ impl GpuContext {
                 .enumerate()
                 .map(|(binding, &b)| wgpu::BindGroupEntry { binding: binding as u32, resource: bufs[b].as_entire_binding() })
                 .collect();
-            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(pass_spec.entry), layout: &bgl, entries: &entries });
+            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(pass_spec.entry), layout: bgl, entries: &entries });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(pass_spec.entry),
                 timestamp_writes: query.as_ref().map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
@@ -333,7 +399,7 @@ impl GpuContext {
                     end_of_pass_write_index: Some(2 * k as u32 + 1),
                 }),
             });
-            pass.set_pipeline(&pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             match pass_spec.dispatch {
                 ChainDispatch::Direct(x, y, z) => pass.dispatch_workgroups(x, y, z),

@@ -70,7 +70,7 @@ pub fn evaluate(backend: &Backend, spec: &GridSpec) -> Result<Vec<GridResult>> {
     let mut out = Vec::new();
     for name in ["ggx_d", "ggx_lambda", "ggx_g1"] {
         let f = find_function(name)?;
-        let (values, t) = backend.eval_table(f.id, &rows, 5, 1, n)?;
+        let (values, t) = backend.eval_table(f, &rows, n)?;
         out.push(GridResult { name: f.name, values, seconds: t.seconds, timing_source: t.source.to_string() });
     }
     Ok(out)

@@ -36,6 +36,13 @@ pub fn create_parent_dir(path: &Path) -> Result<()> {
     }
 }
 
+/// A temporary path in the same directory as `path` (so a rename onto `path` is atomic), for
+/// writers that must not leave a half-written file or remove an existing one on failure.
+pub fn temp_beside(path: &Path) -> std::path::PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+}
+
 /// A float image read from an EXR file: its size and named channels.
 #[derive(Debug, Clone)]
 pub struct ExrImage {

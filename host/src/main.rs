@@ -27,22 +27,30 @@ enum Cmd {
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
     },
-    /// Evaluate one shading function over a CSV table (`--list` shows every function and its columns).
+    /// Evaluate one shading function over a table (`--list` shows every function and its columns).
     ///
-    /// The input CSV's header names the function's input columns (any order). Directions are
-    /// given as separate _x,_y,_z columns in the local shading frame (normal = +z). The output
-    /// CSV repeats the inputs and appends the outputs, each float written so it reads back to
-    /// the same bits.
+    /// CSV input: a header naming the function's input columns (any order; a missing, unknown or
+    /// repeated column is an error). Directions are separate _x,_y,_z columns in the local
+    /// shading frame (normal = +z), colours _r,_g,_b. The output CSV repeats the inputs and
+    /// appends the outputs, each float written so it reads back to the same bits.
+    ///
+    /// NumPy input/output, chosen by the `.npy` extension: input shape (rows, inputs) with the
+    /// columns in `--list` order, dtype float32 (float64 is rounded to float32); the output
+    /// holds the outputs only, shape (rows, outputs), float32.
     Eval {
         /// Function name, e.g. ggx_d.
         function: Option<String>,
         /// List every function with its input and output columns.
         #[arg(long)]
         list: bool,
-        /// Input CSV ('-' for standard input).
+        /// With --list: print the list as JSON (name, summary, group, inputs, outputs, entry_point).
+        #[arg(long, requires = "list")]
+        json: bool,
+        /// Input table: .csv, .npy, or '-' for CSV on standard input.
         #[arg(long, short)]
         input: Option<PathBuf>,
-        /// Output CSV ('-' or omitted for standard output).
+        /// Output table: .csv or .npy ('-' or omitted: CSV on standard output). Its directory is
+        /// created; an existing file is replaced only once the whole result is written.
         #[arg(long, short)]
         output: Option<PathBuf>,
         #[arg(long, value_enum, default_value = "auto")]
@@ -99,32 +107,45 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Info { device } => info(device),
         Cmd::Bench(b) => b.run(),
         Cmd::Energy(e) => e.run(),
-        Cmd::Eval { function, list, input, output, device, allow_nonfinite } => {
+        Cmd::Eval { function, list, json, input, output, device, allow_nonfinite } => {
             if list {
-                print!("{}", host::eval::list());
+                if json {
+                    println!("{}", host::eval::list_json());
+                } else {
+                    print!("{}", host::eval::list());
+                }
                 return Ok(());
             }
             let name = function.context("name a function (see `host eval --list`)")?;
             let f = host::eval::find_function(&name)?;
-            let input = input.context("--input is required (a CSV file, or - for standard input)")?;
-            let table = if input.as_os_str() == "-" {
-                host::eval::parse_csv(f, std::io::stdin().lock(), allow_nonfinite)?
-            } else {
-                let file = std::fs::File::open(&input).with_context(|| format!("opening {}", input.display()))?;
-                host::eval::parse_csv(f, file, allow_nonfinite).with_context(|| format!("in {}", input.display()))?
-            };
+            let input = input.context("--input is required (a .csv or .npy file, or - for CSV on standard input)")?;
+            let output = output.filter(|p| p.as_os_str() != "-");
+            if let Some(p) = &output {
+                host::io::create_parent_dir(p)?;
+            }
+            let t0 = std::time::Instant::now();
+            let table = host::eval::read_table(f, &input, allow_nonfinite)?;
+            let t_read = t0.elapsed().as_secs_f64();
             let backend = Backend::select(device)?;
             eprintln!("{}", backend.describe());
             let (out, t) = host::eval::run(&backend, f, &table)?;
-            match output {
-                Some(p) if p.as_os_str() != "-" => {
-                    let file = std::fs::File::create(&p).with_context(|| format!("creating {}", p.display()))?;
-                    host::eval::write_csv(f, &table, &out, std::io::BufWriter::new(file))?;
+            let t1 = std::time::Instant::now();
+            match &output {
+                Some(p) => {
+                    host::eval::write_table(f, &table, &out, p)?;
                     eprintln!("wrote {} rows to {}", table.rows, p.display());
                 }
-                _ => host::eval::write_csv(f, &table, &out, std::io::stdout().lock())?,
+                None => host::eval::write_table(f, &table, &out, std::path::Path::new("-"))?,
             }
-            eprintln!("{}: {} rows in {:.3} ms ({})", f.name, table.rows, t.seconds * 1e3, t.source);
+            eprintln!(
+                "{}: {} rows evaluated in {:.3} ms ({}); read {:.3} ms, write {:.3} ms",
+                f.name,
+                table.rows,
+                t.seconds * 1e3,
+                t.source,
+                t_read * 1e3,
+                t1.elapsed().as_secs_f64() * 1e3
+            );
             Ok(())
         }
         Cmd::Ssr(cmd) => host::ssr::cli::main(cmd),

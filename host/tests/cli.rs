@@ -23,7 +23,7 @@ fn eval_list_names_every_function_with_columns() {
     let o = host(&["eval", "--list"], &[]);
     assert!(o.status.success(), "{}", text(&o));
     let t = text(&o);
-    for f in shader_kernels::table::FUNCTIONS {
+    for f in shader_kernels::eval::functions() {
         assert!(t.contains(f.name), "{} missing from --list", f.name);
         assert!(t.contains(&f.inputs.join(",")), "{} inputs missing", f.name);
     }

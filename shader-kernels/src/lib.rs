@@ -1,9 +1,11 @@
 //! Compute entry points, compiled to SPIR-V by rust-gpu (`cargo xtask build-shaders`) and linked
 //! natively by the host's CPU backend.
 //!
-//! Each kernel is a plain per-invocation function (e.g. [`table::eval_row`]) that both backends
-//! call; the `#[spirv(compute)]` entry points below only map invocation ids to it and are the only
-//! GPU-specific code. On non-SPIR-V targets the `spirv` attribute is inert.
+//! Each kernel is a plain per-invocation function (e.g. `eval::basic::ggx_d::row`) that both
+//! backends call; the `#[spirv(compute)]` entry points only map invocation ids to it and are the
+//! only GPU-specific code. On non-SPIR-V targets the `spirv` attribute is inert. Every evaluable
+//! function has its own entry point, generated with its registry entry from one declaration
+//! ([`eval`]).
 //!
 //! Two SPIR-V modules are built from this crate: the main one (every kernel below), and, with the
 //! `subgroup-module` feature, one holding only the kernels that need subgroup operations
@@ -12,24 +14,16 @@
 #![no_std]
 
 #[cfg(not(feature = "subgroup-module"))]
-pub mod bxdf_table;
-#[cfg(not(feature = "subgroup-module"))]
 pub mod energy;
 #[cfg(not(feature = "subgroup-module"))]
-pub mod microfacet_table;
+pub mod eval;
 #[cfg(not(feature = "subgroup-module"))]
 pub mod ssr;
 #[cfg(feature = "subgroup-module")]
 pub mod ssr_subgroup;
-#[cfg(not(feature = "subgroup-module"))]
-pub mod table;
-#[cfg(not(feature = "subgroup-module"))]
-pub mod vndf_table;
 
 #[cfg_attr(feature = "subgroup-module", allow(unused_imports))]
 use spirv_std::glam::UVec3;
-#[cfg_attr(feature = "subgroup-module", allow(unused_imports))]
-use spirv_std::spirv;
 
 /// Threads per workgroup of the 1D kernels. Dispatches are 2D (x = 65535 groups at most) and
 /// rows are numbered `x + y * groups_x * WORKGROUP_SIZE`.
@@ -46,25 +40,4 @@ pub(crate) fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
     } else {
         None
     }
-}
-
-/// Evaluate one registered function ([`table::FUNCTIONS`]) over a table of rows.
-///
-/// `params` = [function id, rows, input stride, output stride, groups in x]. `input` holds
-/// `rows * in_stride` f32 values, row-major; `output` receives `rows * out_stride`.
-#[cfg(not(feature = "subgroup-module"))]
-#[spirv(compute(threads(64)))]
-pub fn eval_table(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] input: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] output: &mut [f32],
-) {
-    let row = id.x + id.y * params[4] * WORKGROUP_SIZE;
-    if row >= params[1] {
-        return;
-    }
-    let in_base = (row * params[2]) as usize;
-    let out_base = (row * params[3]) as usize;
-    table::eval_row(params[0], input, in_base, output, out_base);
 }

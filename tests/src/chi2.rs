@@ -526,7 +526,7 @@ pub fn draw(backend: &Backend, name: &str, wi: [f32; 3], alpha_x: f32, alpha_y: 
     let f = crate::function(name);
     assert_eq!(f.inputs.len(), 7, "{name} is not a sampler");
     let rows = sample_rows(wi, alpha_x, alpha_y, n, seed);
-    let (out, _) = backend.eval_table(f.id, &rows, 7, 4, n).expect("sampling");
+    let (out, _) = backend.eval_table(f, &rows, n).expect("sampling");
     out.chunks_exact(4).map(|c| ([c[0], c[1], c[2]], c[3])).collect()
 }
 

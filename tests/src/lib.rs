@@ -124,11 +124,8 @@ impl Comparison {
 }
 
 /// Look a registered function up by name.
-pub fn function(name: &str) -> &'static shader_kernels::table::FunctionInfo {
-    shader_kernels::table::FUNCTIONS
-        .iter()
-        .find(|f| f.name == name)
-        .unwrap_or_else(|| panic!("no registered function {name}"))
+pub fn function(name: &str) -> &'static shader_kernels::eval::FunctionInfo {
+    shader_kernels::eval::find(name).unwrap_or_else(|| panic!("no registered function {name}"))
 }
 
 /// Run `name` on the CPU backend and on `gpu` over `inputs` (rows of the function's input
@@ -139,8 +136,8 @@ pub fn compare_table(gpu: &Backend, name: &str, inputs: &[f32]) -> Comparison {
     let out_stride = f.outputs.len();
     assert_eq!(inputs.len() % in_stride, 0, "inputs must be whole rows");
     let rows = inputs.len() / in_stride;
-    let (cpu, _) = Backend::Cpu.eval_table(f.id, inputs, in_stride, out_stride, rows).unwrap();
-    let (gpu_out, _) = gpu.eval_table(f.id, inputs, in_stride, out_stride, rows).expect("GPU run");
+    let (cpu, _) = Backend::Cpu.eval_table(f, inputs, rows).unwrap();
+    let (gpu_out, _) = gpu.eval_table(f, inputs, rows).expect("GPU run");
     let adapter = match gpu {
         Backend::Gpu(g) => g.info.name.clone(),
         Backend::Cpu => "CPU".into(),

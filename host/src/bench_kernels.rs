@@ -1,0 +1,310 @@
+//! `host bench kernels`: the rate of every evaluable function on each backend, so the cost of
+//! the harness (dispatch, layout, bounds checks) can be told apart from the cost of the math.
+//!
+//! Per function: evaluations per second on the CPU backend with all threads and with one thread
+//! (their ratio is the CPU scaling), on the GPU backend (timestamp queries around the compute
+//! pass: kernel time only, uploads and readback excluded), and the driver's compile time of the
+//! function's own entry point (its pipeline creation, first use). For `ggx_d` and
+//! `sample_vndf_heitz` a hand-written WGSL kernel of the same formula (host/src/wgsl/
+//! reference.wgsl, compiled by naga) runs over the same rows on the same adapter in the same
+//! run: the rust-gpu / WGSL rate ratio says how far the rust-gpu kernel is from what the adapter
+//! does with straightforward shader code. Rates are the fastest of `--repeats` timed runs after
+//! one warm-up (other processes only slow runs down); medians are reported too.
+//!
+//! Inputs: `--rows` rows per function, drawn from fixed per-column ranges (see [`column_range`])
+//! with a fixed seed, so two runs time the same work.
+
+use crate::backend::{Backend, DeviceChoice};
+use crate::gpu::{groups_2d, OutputSpec};
+use crate::timing::{cpu_model, load_average};
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use shader_kernels::eval::{functions, EvalArgs, FunctionInfo};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// The WGSL speed references: (registered function, WGSL entry point).
+pub const WGSL_REFERENCES: &[(&str, &str)] = &[("ggx_d", "wgsl_ggx_d"), ("sample_vndf_heitz", "wgsl_sample_vndf_heitz")];
+
+/// The WGSL source of the references.
+pub const WGSL_SOURCE: &str = include_str!("wgsl/reference.wgsl");
+
+/// Options of `host bench kernels`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct KernelsArgs {
+    /// GPU backend to time besides the CPU backend: auto (a Vulkan adapter if there is one,
+    /// lavapipe included), gpu (required), cpu (CPU columns only).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub device: DeviceChoice,
+    /// Rows per timed evaluation (batch size).
+    #[arg(long, default_value_t = 1 << 20, value_parser = clap::value_parser!(u32).range(1024..=1 << 26))]
+    pub rows: u32,
+    /// Timed runs per function and backend (after one warm-up); the fastest is reported.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub repeats: u32,
+    /// Only these functions (comma-separated names; default: every registered function).
+    #[arg(long, value_delimiter = ',')]
+    pub functions: Vec<String>,
+    /// Markdown report; the JSON report is written beside it (same name, .json).
+    #[arg(long, short, default_value = "out/kernel-rates.md")]
+    pub output: PathBuf,
+}
+
+/// One function's measured rates (evaluations per second).
+#[derive(Clone, Debug, Serialize)]
+pub struct KernelRow {
+    pub name: String,
+    pub group: String,
+    pub entry_point: String,
+    pub cpu_rate: f64,
+    pub cpu_median_rate: f64,
+    pub cpu_one_thread_rate: f64,
+    /// cpu_rate / cpu_one_thread_rate.
+    pub cpu_scaling: f64,
+    pub gpu_rate: Option<f64>,
+    pub gpu_median_rate: Option<f64>,
+    pub gpu_timing: Option<String>,
+    /// Seconds the driver took to create this entry point's pipeline.
+    pub gpu_compile_seconds: Option<f64>,
+    pub wgsl_rate: Option<f64>,
+    /// gpu_rate / wgsl_rate.
+    pub rust_gpu_over_wgsl: Option<f64>,
+}
+
+/// The whole report, as written to JSON.
+#[derive(Clone, Debug, Serialize)]
+pub struct KernelReport {
+    pub command: String,
+    pub cpu: String,
+    pub cpu_threads: usize,
+    pub load_average_start: String,
+    pub load_average_end: String,
+    pub adapter: Option<String>,
+    pub rows: u32,
+    pub repeats: u32,
+    pub functions: Vec<KernelRow>,
+}
+
+/// The range each input column is drawn from, by column name: directions are handled apart
+/// (unit vectors in the upper hemisphere); `(lo, hi)` uniform otherwise.
+pub fn column_range(col: &str) -> (f32, f32) {
+    match col {
+        c if c.starts_with("alpha") => (0.01, 1.0),
+        "u0" | "u1" | "u2" | "uc" | "roughness" | "metallic" | "anisotropic" | "r" | "g" | "f0" | "f90" => (0.0, 1.0),
+        c if c.starts_with("n_dot") || c.starts_with("v_dot") => (0.01, 1.0),
+        c if c.starts_with("cos") => (-1.0, 1.0),
+        "eta" | "n" => (1.1, 2.5),
+        "k" => (0.0, 4.0),
+        "exponent" => (0.0, 1000.0),
+        "mode" => (0.0, 1.0),
+        "x" | "y" | "a" | "b" => (-4.0, 4.0),
+        c if c.starts_with("eta_") || c.starts_with("k_") => (0.2, 3.0),
+        _ => (0.0, 1.0),
+    }
+}
+
+/// `rows` rows of `f`'s inputs: `_x,_y,_z` triples are unit vectors with z > 0, other columns
+/// uniform in [`column_range`]; a fixed PCG stream per function.
+pub fn bench_inputs(f: &FunctionInfo, rows: usize) -> Vec<f32> {
+    let mut rng = shader_core::rng::Pcg32::new(0x6b65_726e, f.name.bytes().fold(0u32, |h, b| h.wrapping_mul(31).wrapping_add(b as u32)));
+    let ni = f.inputs.len();
+    let mut v = vec![0.0f32; rows * ni];
+    for r in 0..rows {
+        let mut c = 0;
+        while c < ni {
+            let name = f.inputs[c];
+            let is_dir = name.ends_with("_x") && f.inputs.get(c + 2).is_some_and(|z| z.ends_with("_z") && z[..z.len() - 2] == name[..name.len() - 2]);
+            if is_dir {
+                let cos_theta = 0.02 + 0.98 * rng.next_f32();
+                let phi = 2.0 * std::f32::consts::PI * rng.next_f32();
+                let s = (1.0 - cos_theta * cos_theta).sqrt();
+                v[r * ni + c] = s * phi.cos();
+                v[r * ni + c + 1] = s * phi.sin();
+                v[r * ni + c + 2] = cos_theta;
+                c += 3;
+            } else {
+                let (lo, hi) = column_range(name);
+                v[r * ni + c] = lo + (hi - lo) * rng.next_f32();
+                c += 1;
+            }
+        }
+    }
+    v
+}
+
+/// (fastest, median) of run times.
+fn best_and_median(mut v: Vec<f64>) -> (f64, f64) {
+    v.sort_by(|a, b| a.total_cmp(b));
+    (v[0], v[v.len() / 2])
+}
+
+/// (best rate, median rate, timing source) of `f` over `input` on `backend`.
+fn time_eval(backend: &Backend, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<(f64, f64, String)> {
+    let (_, warm) = backend.eval_table(f, input, rows)?;
+    let mut secs = Vec::new();
+    for _ in 0..repeats {
+        secs.push(backend.eval_table(f, input, rows)?.1.seconds);
+    }
+    let (best, med) = best_and_median(secs);
+    Ok((rows as f64 / best, rows as f64 / med, warm.source.to_string()))
+}
+
+/// (best rate, median rate) of a WGSL reference entry over `input` (rows of `f`'s layout).
+fn time_wgsl(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<(f64, f64)> {
+    let wg = shader_kernels::WORKGROUP_SIZE as usize;
+    if rows * f.inputs.len().max(f.outputs.len()) * 4 > g.max_binding_bytes() {
+        bail!("--rows {rows} exceeds the adapter's storage binding size for the WGSL reference");
+    }
+    let (gx, gy) = groups_2d(rows.div_ceil(wg) as u32);
+    let args = EvalArgs { rows: rows as u32, groups_x: gx };
+    let mut secs = Vec::new();
+    for k in 0..=repeats {
+        let (_, t) = g.dispatch(entry, &[bytemuck::bytes_of(&args), bytemuck::cast_slice(input)], &[OutputSpec::zeroed(rows * f.outputs.len() * 4)], (gx, gy, 1))?;
+        if k > 0 {
+            secs.push(t.seconds);
+        }
+    }
+    let (best, med) = best_and_median(secs);
+    Ok((rows as f64 / best, rows as f64 / med))
+}
+
+/// Run the benchmark and write the Markdown and JSON reports.
+pub fn run(a: &KernelsArgs) -> Result<()> {
+    crate::io::create_parent_dir(&a.output)?;
+    let json_path = a.output.with_extension("json");
+    let selected: Vec<&'static FunctionInfo> = if a.functions.is_empty() {
+        functions().collect()
+    } else {
+        a.functions.iter().map(|n| crate::eval::find_function(n)).collect::<Result<_>>()?
+    };
+    let load_start = load_average();
+    let (cpu, gpu) = Backend::bench_pair(a.device)?;
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().context("creating a one-thread pool")?;
+    if let Some(Backend::Gpu(g)) = &gpu {
+        let entries: Vec<&str> = WGSL_REFERENCES.iter().map(|(_, e)| *e).collect();
+        g.add_wgsl("wgsl reference kernels", WGSL_SOURCE, &entries)?;
+    }
+    let rows = a.rows as usize;
+    let pb = indicatif::ProgressBar::new(selected.len() as u64);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut out = Vec::new();
+    for f in selected {
+        pb.set_message(f.name);
+        let input = bench_inputs(f, rows);
+        let (cpu_rate, cpu_median_rate, _) = time_eval(&cpu, f, &input, rows, a.repeats)?;
+        let (cpu_one_thread_rate, _, _) = one_thread.install(|| time_eval(&cpu, f, &input, rows, a.repeats))?;
+        let mut row = KernelRow {
+            name: f.name.into(),
+            group: f.group.into(),
+            entry_point: f.entry.into(),
+            cpu_rate,
+            cpu_median_rate,
+            cpu_one_thread_rate,
+            cpu_scaling: cpu_rate / cpu_one_thread_rate,
+            gpu_rate: None,
+            gpu_median_rate: None,
+            gpu_timing: None,
+            gpu_compile_seconds: None,
+            wgsl_rate: None,
+            rust_gpu_over_wgsl: None,
+        };
+        if let Some(Backend::Gpu(g)) = &gpu {
+            row.gpu_compile_seconds = Some(g.prepare(f.entry, 2, 1)?);
+            let backend = gpu.as_ref().expect("GPU backend");
+            let (r, m, src) = time_eval(backend, f, &input, rows, a.repeats).with_context(|| format!("timing {} on the GPU", f.name))?;
+            row.gpu_rate = Some(r);
+            row.gpu_median_rate = Some(m);
+            row.gpu_timing = Some(src);
+            if let Some((_, entry)) = WGSL_REFERENCES.iter().find(|(n, _)| *n == f.name) {
+                let (w, _) = time_wgsl(g, entry, f, &input, rows, a.repeats).with_context(|| format!("timing the WGSL {}", f.name))?;
+                row.wgsl_rate = Some(w);
+                row.rust_gpu_over_wgsl = Some(r / w);
+            }
+        }
+        out.push(row);
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    let report = KernelReport {
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        cpu: cpu_model(),
+        cpu_threads: crate::cpu::threads(),
+        load_average_start: load_start,
+        load_average_end: load_average(),
+        adapter: match &gpu {
+            Some(g) => Some(g.describe()),
+            None => None,
+        },
+        rows: a.rows,
+        repeats: a.repeats,
+        functions: out,
+    };
+    let md = markdown(&report);
+    std::fs::write(&a.output, &md).with_context(|| format!("writing {}", a.output.display()))?;
+    std::fs::write(&json_path, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", json_path.display()))?;
+    eprint!("{md}");
+    eprintln!("wrote {} and {}", a.output.display(), json_path.display());
+    Ok(())
+}
+
+fn rate(v: Option<f64>) -> String {
+    v.map_or("-".into(), |r| format!("{:.1}", r / 1e6))
+}
+
+/// The report as a Markdown table (rates in millions of evaluations per second).
+pub fn markdown(r: &KernelReport) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "Command: `{}`\n", r.command);
+    let _ = writeln!(
+        s,
+        "Machine: {} ({} threads), load average {} at the start, {} at the end; GPU backend: {}; {} rows per run, best of {} runs.\n",
+        r.cpu,
+        r.cpu_threads,
+        r.load_average_start,
+        r.load_average_end,
+        r.adapter.as_deref().unwrap_or("none"),
+        r.rows,
+        r.repeats
+    );
+    let _ = writeln!(s, "| function | CPU M/s | CPU 1-thread M/s | CPU scaling | GPU M/s | GPU median M/s | GPU compile ms | WGSL M/s | rust-gpu / WGSL |");
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for k in &r.functions {
+        let _ = writeln!(
+            s,
+            "| {} | {:.1} | {:.1} | {:.2} | {} | {} | {} | {} | {} |",
+            k.name,
+            k.cpu_rate / 1e6,
+            k.cpu_one_thread_rate / 1e6,
+            k.cpu_scaling,
+            rate(k.gpu_rate),
+            rate(k.gpu_median_rate),
+            k.gpu_compile_seconds.map_or("-".into(), |c| format!("{:.0}", c * 1e3)),
+            rate(k.wgsl_rate),
+            k.rust_gpu_over_wgsl.map_or("-".into(), |x| format!("{x:.2}")),
+        );
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bench_inputs_are_in_range_with_unit_directions() {
+        let f = crate::eval::find_function("conductor_sample_f").unwrap();
+        let v = bench_inputs(f, 100);
+        assert_eq!(v.len(), 100 * f.inputs.len());
+        for row in v.chunks(f.inputs.len()) {
+            let len2 = row[0] * row[0] + row[1] * row[1] + row[2] * row[2];
+            assert!((len2 - 1.0).abs() < 1e-5 && row[2] > 0.0, "{row:?}");
+            for (x, c) in row.iter().zip(f.inputs).skip(3) {
+                let (lo, hi) = column_range(c);
+                assert!(*x >= lo && *x <= hi, "{c} = {x}");
+            }
+        }
+    }
+}
