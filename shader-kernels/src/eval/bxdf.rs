@@ -26,6 +26,8 @@ crate::evaluable! { group = "bxdf";
         (cos_theta_i: f32, eta: f32, k: f32) -> (f: f32) { fresnel::conductor(cos_theta_i, eta, k) }
     fresnel_schlick "Schlick's approximation F0 + (F90 - F0)(1 - |cos|)^5 (Schlick 1994 eq. 24)"
         (cos_theta: f32, f0: f32, f90: f32) -> (f: f32) { fresnel::schlick(cos_theta, f0, f90) }
+    fresnel_f0 "Normal-incidence reflectance of a dielectric, F0 = ((eta - 1)/(eta + 1))^2 (Schlick 1994 eq. 24)"
+        (eta: f32) -> (f0: f32) { fresnel::f0_from_eta(eta) }
     gulbrandsen_nk "Reflectivity r and edge tint g -> conductor IOR (n, k) (Gulbrandsen 2014 eqs. 8-9)"
         (r: f32, g: f32) -> (n: f32, k: f32) {
             let nk = fresnel::gulbrandsen_nk(r, g);
