@@ -162,8 +162,10 @@ mod tests {
         assert!(read(b"hello world").unwrap_err().to_string().contains("magic"));
         let mut b = Vec::new();
         write(&mut b, &[2], &[1.0, 2.0]).unwrap();
-        let text = String::from_utf8_lossy(&b).replace("<f4", "<i4");
-        assert!(read(text.as_bytes()).unwrap_err().to_string().contains("'<f4'"));
+        let mut ints = b.clone();
+        let at = ints.windows(3).position(|w| w == b"<f4").unwrap();
+        ints[at + 1] = b'i';
+        assert!(read(&ints).unwrap_err().to_string().contains("'<f4'"));
         b.pop();
         assert!(read(&b).unwrap_err().to_string().contains("needs 8"));
     }
