@@ -149,12 +149,23 @@ fn time_eval(backend: &Backend, f: &FunctionInfo, input: &[f32], rows: usize, re
     Ok((rows as f64 / best, rows as f64 / med, warm.source.to_string()))
 }
 
-/// (best rate, median rate) of a WGSL reference entry over `input` (rows of `f`'s layout).
-fn time_wgsl(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<(f64, f64)> {
+/// The WGSL reference entry point of registered function `name`, if it has one.
+pub fn wgsl_entry(name: &str) -> Option<&'static str> {
+    WGSL_REFERENCES.iter().find(|(n, _)| *n == name).map(|(_, e)| *e)
+}
+
+/// (best rate, median rate) of a WGSL reference entry over `input` (rows of `f`'s layout),
+/// loading the reference module into `g` on first use.
+pub fn time_wgsl(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<(f64, f64)> {
     let wg = shader_kernels::WORKGROUP_SIZE as usize;
     if rows * f.inputs.len().max(f.outputs.len()) * 4 > g.max_binding_bytes() {
         bail!("--rows {rows} exceeds the adapter's storage binding size for the WGSL reference");
     }
+    if !g.has_module_for(entry) {
+        let entries: Vec<&str> = WGSL_REFERENCES.iter().map(|(_, e)| *e).collect();
+        g.add_wgsl("wgsl reference kernels", WGSL_SOURCE, &entries)?;
+    }
+    g.prepare(entry, 2, 1)?;
     let (gx, gy) = groups_2d(rows.div_ceil(wg) as u32);
     let args = EvalArgs { rows: rows as u32, groups_x: gx };
     let mut secs = Vec::new();
@@ -180,10 +191,6 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().context("creating a one-thread pool")?;
-    if let Some(Backend::Gpu(g)) = &gpu {
-        let entries: Vec<&str> = WGSL_REFERENCES.iter().map(|(_, e)| *e).collect();
-        g.add_wgsl("wgsl reference kernels", WGSL_SOURCE, &entries)?;
-    }
     let rows = a.rows as usize;
     let pb = indicatif::ProgressBar::new(selected.len() as u64);
     pb.set_style(
@@ -218,7 +225,7 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
             row.gpu_rate = Some(r);
             row.gpu_median_rate = Some(m);
             row.gpu_timing = Some(src);
-            if let Some((_, entry)) = WGSL_REFERENCES.iter().find(|(n, _)| *n == f.name) {
+            if let Some(entry) = wgsl_entry(f.name) {
                 let (w, _) = time_wgsl(g, entry, f, &input, rows, a.repeats).with_context(|| format!("timing the WGSL {}", f.name))?;
                 row.wgsl_rate = Some(w);
                 row.rust_gpu_over_wgsl = Some(r / w);

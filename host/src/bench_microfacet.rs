@@ -83,10 +83,12 @@ pub struct MicrofacetArgs {
     #[arg(long, default_value_t = 64)]
     pub grid: usize,
     /// Markdown report.
-    #[arg(long, short, default_value = "docs/microfacet-cost.md")]
+    /// (`cargo xtask docs-reports` regenerates the committed one under docs/.) A JSON file with
+    /// every figure is written beside it (same name, .json).
+    #[arg(long, short, default_value = "out/microfacet-cost.md")]
     pub output: PathBuf,
     /// PNG scatter plot (error vs evaluations/s).
-    #[arg(long, default_value = "docs/microfacet-cost.png")]
+    #[arg(long, default_value = "out/microfacet-cost.png")]
     pub plot: PathBuf,
     /// Skip timing (errors only).
     #[arg(long)]
@@ -303,7 +305,7 @@ fn column(col: &str, p: &Point) -> Result<f32> {
 }
 
 /// Error statistics of one case.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct ErrorStats {
     pub max_rel: f64,
     pub mean_rel: f64,
@@ -341,7 +343,7 @@ fn error_stats(values: &[f32], pts: &[Point], g1: bool, group: Group) -> ErrorSt
 }
 
 /// One row of the report.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct Measured {
     pub name: String,
     pub group: String,
@@ -353,6 +355,10 @@ pub struct Measured {
     pub cpu_median_per_s: Option<f64>,
     pub gpu_median_per_s: Option<f64>,
     pub gpu_timing: Option<String>,
+    /// The hand-written WGSL kernel of the same formula on the same adapter (`ggx_d` only;
+    /// [`crate::bench_kernels::WGSL_REFERENCES`]), and the rust-gpu rate divided by it.
+    pub wgsl_evals_per_s: Option<f64>,
+    pub rust_gpu_over_wgsl: Option<f64>,
 }
 
 /// (fastest, median) of run times.
@@ -381,6 +387,8 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     anyhow::ensure!(a.grid >= 4, "--grid must be at least 4");
     anyhow::ensure!(a.rows >= 1024, "--rows must be at least 1024");
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
+    crate::io::create_parent_dir(&a.output)?;
+    crate::io::create_parent_dir(&a.plot)?;
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
     let grids = [
@@ -426,6 +434,8 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
             cpu_median_per_s: None,
             gpu_median_per_s: None,
             gpu_timing: None,
+            wgsl_evals_per_s: None,
+            rust_gpu_over_wgsl: None,
         };
         if let (Some((f, rows)), false) = (timed, a.no_timing) {
             let stride = f.inputs.len();
@@ -443,6 +453,11 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
                 m.gpu_evals_per_s = Some(r);
                 m.gpu_median_per_s = Some(rm);
                 m.gpu_timing = Some(src);
+                if let (Backend::Gpu(gc), Some(entry)) = (g, crate::bench_kernels::wgsl_entry(f.name)) {
+                    let (w, _) = crate::bench_kernels::time_wgsl(gc, entry, f, &table, a.rows, a.repeats as u32)?;
+                    m.wgsl_evals_per_s = Some(w);
+                    m.rust_gpu_over_wgsl = Some(r / w);
+                }
             }
         }
         out.push(m);
@@ -450,9 +465,21 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     pb.finish_and_clear();
     let load = format!("{load_start} at the start, {} at the end", load_average());
     let md = markdown(a, &out, &grids.iter().map(|(g, p)| (*g, p.len())).collect::<Vec<_>>(), &cpu, gpu.as_ref(), &load);
-    crate::io::create_parent_dir(&a.output)?;
     std::fs::write(&a.output, md).with_context(|| format!("writing {}", a.output.display()))?;
     eprintln!("wrote {}", a.output.display());
+    let json = a.output.with_extension("json");
+    let doc = serde_json::json!({
+        "command": std::env::args().collect::<Vec<_>>().join(" "),
+        "cpu": cpu_model(),
+        "cpu_backend": cpu.describe(),
+        "gpu_backend": gpu.as_ref().map(|g| g.describe()),
+        "load_average": load,
+        "rows_per_run": a.rows,
+        "repeats": a.repeats,
+        "functions": out,
+    });
+    std::fs::write(&json, serde_json::to_string_pretty(&doc)?).with_context(|| format!("writing {}", json.display()))?;
+    eprintln!("wrote {}", json.display());
     if !a.no_timing {
         plot(&a.plot, &out, gpu.as_ref().map(|g| g.describe()))?;
         eprintln!("wrote {}", a.plot.display());
@@ -547,6 +574,29 @@ fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu
                 m.error.non_finite,
                 fmt_rates(m.cpu_evals_per_s, m.cpu_median_per_s),
                 fmt_rates(m.gpu_evals_per_s, m.gpu_median_per_s)
+            );
+        }
+        let _ = writeln!(s);
+    }
+    let wgsl: Vec<&Measured> = rows.iter().filter(|m| m.wgsl_evals_per_s.is_some()).collect();
+    if !wgsl.is_empty() {
+        let _ = writeln!(s, "## rust-gpu kernel against a hand-written WGSL kernel of the same formula
+");
+        let _ = writeln!(
+            s,
+            "Same adapter, same rows, same run; the WGSL (`host/src/wgsl/reference.wgsl`, compiled by naga) is a speed \
+             reference only, not bit-exact. Ratio = rust-gpu rate / WGSL rate.\n"
+        );
+        let _ = writeln!(s, "| function | rust-gpu Mevals/s | WGSL Mevals/s | ratio |");
+        let _ = writeln!(s, "| --- | ---: | ---: | ---: |");
+        for m in wgsl {
+            let _ = writeln!(
+                s,
+                "| `{}` | {} | {} | {:.2} |",
+                m.name,
+                fmt_rate(m.gpu_evals_per_s),
+                fmt_rate(m.wgsl_evals_per_s),
+                m.rust_gpu_over_wgsl.unwrap_or(f64::NAN)
             );
         }
         let _ = writeln!(s);

@@ -56,11 +56,12 @@ pub struct VndfArgs {
     /// Sampling-time budget (milliseconds) of the equal-time error.
     #[arg(long, default_value_t = 1.0)]
     pub budget_ms: f64,
-    /// Markdown report.
-    #[arg(long, short, default_value = "docs/vndf-bench.md")]
+    /// Markdown report (`cargo xtask docs-reports` regenerates the committed one under docs/).
+    /// A JSON file with every figure is written beside it (same name, .json).
+    #[arg(long, short, default_value = "out/vndf-bench.md")]
     pub output: PathBuf,
     /// PNG: relative error at equal time vs theta_i, one panel per alpha.
-    #[arg(long, default_value = "docs/vndf-bench.png")]
+    #[arg(long, default_value = "out/vndf-bench.png")]
     pub plot: PathBuf,
 }
 
@@ -213,6 +214,9 @@ pub struct MethodResult {
     pub stats: Vec<Stats>,
     pub cpu_rate: f64,
     pub gpu_rate: Option<f64>,
+    /// Median rate of the hand-written WGSL kernel of the same sampler on the same adapter
+    /// (`sample_vndf_heitz` only; [`crate::bench_kernels::WGSL_REFERENCES`]).
+    pub wgsl_rate: Option<f64>,
 }
 
 /// Run the benchmark and write the report and plot.
@@ -222,6 +226,8 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
     anyhow::ensure!((0.0..=1.0).contains(&a.f0), "--f0 must be in [0, 1]");
     anyhow::ensure!(a.budget_ms > 0.0 && a.budget_ms.is_finite(), "--budget-ms must be positive");
+    crate::io::create_parent_dir(&a.output)?;
+    crate::io::create_parent_dir(&a.plot)?;
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
     let pts = grid();
@@ -246,7 +252,7 @@ pub fn run(a: &VndfArgs) -> Result<()> {
             per_point.push(s);
         }
         eprintln!("{name}: statistics in {:.1} s", t0.elapsed().as_secs_f64());
-        results.push(MethodResult { name, label, stats: per_point, cpu_rate: 0.0, gpu_rate: None });
+        results.push(MethodResult { name, label, stats: per_point, cpu_rate: 0.0, gpu_rate: None, wgsl_rate: None });
     }
     let ids = METHODS.iter().map(|(name, _)| find_function(name)).collect::<Result<Vec<&FunctionInfo>>>()?;
     let (cpu_rates, _) = time_backend(&cpu, &ids, &timing_table, a.repeats)?;
@@ -262,6 +268,11 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     for (k, r) in results.iter_mut().enumerate() {
         r.cpu_rate = cpu_rates[k];
         r.gpu_rate = gpu_rates.as_ref().map(|g| g[k]);
+        if let (Some(Backend::Gpu(g)), Some(entry)) = (&gpu, crate::bench_kernels::wgsl_entry(r.name)) {
+            let f = find_function(r.name)?;
+            let (_, median) = crate::bench_kernels::time_wgsl(g, entry, f, &timing_table, a.rows, a.repeats as u32)?;
+            r.wgsl_rate = Some(median);
+        }
         eprintln!(
             "{}: {:.2} Msamples/s CPU, {} GPU",
             r.name,
@@ -271,9 +282,32 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     }
     let load = format!("{load_start} at the start, {} at the end", load_average());
     let md = markdown(a, &pts, &results, &cpu, gpu.as_ref(), gpu_source.as_deref(), &load);
-    crate::io::create_parent_dir(&a.output)?;
     std::fs::write(&a.output, md).with_context(|| format!("writing {}", a.output.display()))?;
     eprintln!("wrote {}", a.output.display());
+    let json = a.output.with_extension("json");
+    let doc = serde_json::json!({
+        "command": std::env::args().collect::<Vec<_>>().join(" "),
+        "cpu": crate::timing::cpu_model(),
+        "cpu_backend": cpu.describe(),
+        "gpu_backend": gpu.as_ref().map(|g| g.describe()),
+        "load_average": load,
+        "rows_per_run": a.rows,
+        "repeats": a.repeats,
+        "grid": pts.iter().map(|p| serde_json::json!({"alpha": p.alpha, "theta_deg": p.theta_deg})).collect::<Vec<_>>(),
+        "methods": results.iter().map(|r| serde_json::json!({
+            "name": r.name,
+            "label": r.label,
+            "cpu_samples_per_s": r.cpu_rate,
+            "gpu_samples_per_s": r.gpu_rate,
+            "wgsl_samples_per_s": r.wgsl_rate,
+            "rust_gpu_over_wgsl": r.gpu_rate.zip(r.wgsl_rate).map(|(g, w)| g / w),
+            "below_horizon": r.stats.iter().map(|s| s.below).collect::<Vec<_>>(),
+            "albedo_mean": r.stats.iter().map(|s| s.mean).collect::<Vec<_>>(),
+            "albedo_variance": r.stats.iter().map(|s| s.var).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+    });
+    std::fs::write(&json, serde_json::to_string_pretty(&doc)?).with_context(|| format!("writing {}", json.display()))?;
+    eprintln!("wrote {}", json.display());
     plot(&a.plot, a, &pts, &results, gpu.as_ref().map(|g| g.describe()))?;
     eprintln!("wrote {}", a.plot.display());
     Ok(())
@@ -365,16 +399,25 @@ fn markdown(a: &VndfArgs, pts: &[Point], res: &[MethodResult], cpu: &Backend, gp
         a.repeats,
         a.rows
     );
-    let _ = writeln!(s, "| method | kernel | CPU Msamples/s | GPU Msamples/s |");
-    let _ = writeln!(s, "| --- | --- | ---: | ---: |");
+    let _ = writeln!(s, "| method | kernel | CPU Msamples/s | GPU Msamples/s | WGSL Msamples/s | rust-gpu / WGSL |");
+    let _ = writeln!(s, "| --- | --- | ---: | ---: | ---: | ---: |");
     for r in res {
         let _ = writeln!(
             s,
-            "| {} | `{}` | {:.2} | {} |",
+            "| {} | `{}` | {:.2} | {} | {} | {} |",
             r.label,
             r.name,
             r.cpu_rate / 1e6,
-            r.gpu_rate.map_or("n/a".to_string(), |g| format!("{:.3}", g / 1e6))
+            r.gpu_rate.map_or("n/a".to_string(), |g| format!("{:.3}", g / 1e6)),
+            r.wgsl_rate.map_or("-".to_string(), |g| format!("{:.3}", g / 1e6)),
+            r.gpu_rate.zip(r.wgsl_rate).map_or("-".to_string(), |(g, w)| format!("{:.2}", g / w)),
+        );
+    }
+    if res.iter().any(|r| r.wgsl_rate.is_some()) {
+        let _ = writeln!(
+            s,
+            "\nWGSL: a hand-written kernel of the same sampler (`host/src/wgsl/reference.wgsl`, compiled by naga; a speed \
+             reference only, not bit-exact), same adapter, same rows, same run."
         );
     }
     let _ = writeln!(s);

@@ -212,6 +212,11 @@ impl GpuContext {
         Ok(())
     }
 
+    /// Whether a loaded module has entry point `entry`.
+    pub fn has_module_for(&self, entry: &str) -> bool {
+        self.module_for(entry).is_ok()
+    }
+
     /// The module holding `entry`, or an error naming the entry points there are.
     fn module_for(&self, entry: &str) -> Result<wgpu::ShaderModule, GpuError> {
         if let Some((m, _)) = self.extra_modules.lock().unwrap().iter().find(|(_, names)| names.iter().any(|n| n == entry)) {
