@@ -2,6 +2,7 @@
 //! evaluator behind `host eval`, and file I/O.
 
 pub mod backend;
+pub mod cli_args;
 pub mod cpu;
 pub mod gpu;
 pub mod shaders;
@@ -12,6 +13,8 @@ pub use timing::{Timing, TimingSource};
 pub mod eval;
 pub mod grid;
 pub mod io;
+pub mod plot;
+pub mod report;
 pub mod ssr;
 pub mod bench_microfacet;
 pub mod bench_vndf;
