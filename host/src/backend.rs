@@ -12,7 +12,7 @@ pub enum DeviceChoice {
     /// the native CPU backend; a software Vulkan adapter (lavapipe) only with `gpu`, because the
     /// native CPU backend runs the same kernels much faster than lavapipe. Says on one line which
     /// it chose and why. Benchmarks, which always time the CPU backend, take any Vulkan adapter
-    /// for their GPU column ([`Backend::gpu_column`]).
+    /// (lavapipe included) for their GPU column.
     Auto,
     /// The native CPU backend (same kernel code, all cores).
     Cpu,

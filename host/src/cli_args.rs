@@ -3,22 +3,21 @@
 
 /// A finite f32 in `[lo, hi]` (NaN and infinities rejected).
 pub fn f32_in(lo: f32, hi: f32) -> impl Fn(&str) -> Result<f32, String> + Clone + Send + Sync + 'static {
-    move |s: &str| {
-        let v: f32 = s.trim().parse().map_err(|_| format!("not a number (expected a value in [{lo}, {hi}])"))?;
-        if v.is_finite() && (lo..=hi).contains(&v) {
-            Ok(v)
-        } else {
-            Err(format!("{v} is outside the allowed range [{lo}, {hi}]"))
-        }
-    }
+    move |s: &str| finite_f32(s, |v| (lo..=hi).contains(&v), &format!("[{lo}, {hi}]"))
 }
 
 /// A finite f32 in `[lo, hi)`.
 pub fn f32_in_half_open(lo: f32, hi: f32) -> impl Fn(&str) -> Result<f32, String> + Clone + Send + Sync + 'static {
-    let closed = f32_in(lo, hi);
-    move |s: &str| match closed(s)? {
-        v if v < hi => Ok(v),
-        v => Err(format!("{v} is outside the allowed range [{lo}, {hi})")),
+    move |s: &str| finite_f32(s, |v| lo <= v && v < hi, &format!("[{lo}, {hi})"))
+}
+
+/// Parse a finite f32 that `ok` accepts; errors name `range`.
+fn finite_f32(s: &str, ok: impl Fn(f32) -> bool, range: &str) -> Result<f32, String> {
+    let v: f32 = s.trim().parse().map_err(|_| format!("not a number (expected a value in {range})"))?;
+    if v.is_finite() && ok(v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is outside the allowed range {range}"))
     }
 }
 

@@ -264,13 +264,18 @@ fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
 fn every_option_is_documented_and_help_matches_defaults() {
     for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"]] {
         let mut args = cmd.to_vec();
-        args.push("-h");
+        args.push("--help");
         let o = host(&args, &[]);
         let t = text(&o);
-        for line in t.lines().map(str::trim_start).filter(|l| l.starts_with('-') && !l.starts_with("-h,")) {
-            // "--opt <OPT>  help [default: x]": the help must be more than the default.
-            let help = line.split_once("  ").map(|(_, h)| h.trim()).unwrap_or("");
-            assert!(!help.is_empty() && !help.starts_with('['), "host {cmd:?}: undocumented option: {line}");
+        let lines: Vec<&str> = t.lines().map(str::trim).collect();
+        for (i, line) in lines.iter().enumerate().filter(|(_, l)| l.starts_with("--") || (l.starts_with('-') && l.get(2..3) == Some(",") && !l.starts_with("-h,"))) {
+            // Long help: "--opt <OPT>" then its text, then "[default: x]": the text must come first.
+            // (or "--opt <OPT>  text [default: x]" on one line when it fits).
+            let help = match line.split_once("  ") {
+                Some((_, h)) => h.trim(),
+                None => lines.get(i + 1).copied().unwrap_or(""),
+            };
+            assert!(!help.is_empty() && !help.starts_with('[') && !help.starts_with('-'), "host {cmd:?}: undocumented option: {line}");
         }
     }
     let t = text(&host(&["ssr", "--help"], &[]));
