@@ -122,6 +122,8 @@ pub const MARKERS: [Marker; 6] = [Marker::Circle, Marker::Square, Marker::Triang
 
 const FONT_SIZE: u32 = 18;
 const MARKER_RADIUS: i32 = 7;
+/// Font size of point labels.
+const LABEL_SIZE: u32 = 15;
 
 fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
     anyhow!("drawing the chart: {e}")
@@ -316,7 +318,16 @@ impl Plot {
                 .draw()
                 .map_err(err)?;
             let text = |color: RGBColor| ("sans-serif", FONT_SIZE).into_font().color(&color);
-            let mut placed: Vec<(i32, i32)> = Vec::new();
+            // Point labels: the first free spot (right, left, above, below the marker) inside
+            // the plot area that overlaps no earlier label; the first candidate if none is free.
+            let (xr, yr) = chart.plotting_area().get_pixel_range();
+            let m = MARKER_RADIUS;
+            let mut placed: Vec<[i32; 4]> = pts
+                .iter()
+                .flatten()
+                .map(|q| chart.backend_coord(&(q.0, q.1)))
+                .map(|(x, y)| [x - m, y - m, x + m, y + m])
+                .collect();
             for (k, (s, p)) in self.series.iter().zip(&pts).enumerate() {
                 let color = PALETTE[k % PALETTE.len()];
                 if s.joined && p.len() > 1 {
@@ -328,12 +339,17 @@ impl Plot {
                 for q in p {
                     let Some(l) = s.point_labels.get(q.2).filter(|l| !l.is_empty()) else { continue };
                     let (px, py) = chart.backend_coord(&(q.0, q.1));
-                    let mut y = py - 8;
-                    while placed.iter().any(|&(x0, y0)| (x0 - px).abs() < 200 && (y0 - y).abs() < 15) {
-                        y += 15;
-                    }
-                    placed.push((px, y));
-                    root.draw(&Text::new(l.clone(), (px + 10, y), ("sans-serif", 13).into_font().color(&color))).map_err(err)?;
+                    let (w, h) = (l.chars().count() as i32 * LABEL_SIZE as i32 * 6 / 10, LABEL_SIZE as i32);
+                    let r = MARKER_RADIUS + 3;
+                    let spots = [(r, -h / 2), (-r - w, -h / 2), (-w / 2, -r - h), (-w / 2, r), (r, -r - h), (r, r), (-r - w, -r - h), (-r - w, r)];
+                    let rects = spots.map(|(dx, dy)| [px + dx, py + dy, px + dx + w, py + dy + h]);
+                    let free = |b: &[i32; 4]| {
+                        xr.contains(&b[0]) && xr.contains(&b[2]) && yr.contains(&b[1]) && yr.contains(&b[3])
+                            && !placed.iter().any(|a| a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3])
+                    };
+                    let b = rects.iter().find(|b| free(b)).copied().unwrap_or(rects[0]);
+                    placed.push(b);
+                    root.draw(&Text::new(l.clone(), (b[0], b[1]), ("sans-serif", LABEL_SIZE).into_font().color(&color))).map_err(err)?;
                 }
             }
             for (k, s) in self.series.iter().enumerate() {

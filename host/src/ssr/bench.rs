@@ -348,24 +348,37 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
 }
 
 /// Relative RMSE (on-screen pixels) against time per frame, one series per scene, each point
-/// labelled with its configuration; rows where nothing was measured are left out.
+/// labelled with its configuration's number (the footnote lists them); rows where nothing was
+/// measured are left out.
 fn plot(path: &Path, rows: &[Row], gpu: Option<&str>) -> Result<()> {
     use crate::plot::{Axis, Plot, Series};
+    let mut configs: Vec<&str> = Vec::new();
     let mut series: Vec<Series> = Vec::new();
     for r in rows {
+        let n = match configs.iter().position(|c| *c == r.config) {
+            Some(i) => i + 1,
+            None => {
+                configs.push(&r.config);
+                configs.len()
+            }
+        };
         let p = (r.gpu_ms.unwrap_or(r.cpu_ms), r.errors.onscreen.rel);
         match series.iter_mut().find(|s| s.label == r.scene) {
             Some(s) => {
                 s.points.push(p);
-                s.point_labels.push(r.config.clone());
+                s.point_labels.push(n.to_string());
             }
-            None => series.push(Series { point_labels: vec![r.config.clone()], ..Series::scatter(&r.scene, vec![p]) }),
+            None => series.push(Series { point_labels: vec![n.to_string()], ..Series::scatter(&r.scene, vec![p]) }),
         }
     }
-    let footnotes = vec![match gpu {
-        Some(g) => format!("Time: GPU backend, sum over passes (timestamp queries where available); GPU: {g}"),
-        None => "Time: CPU backend (no GPU in this run), sum over passes, wall clock.".into(),
-    }];
+    let legend: Vec<String> = configs.iter().enumerate().map(|(i, c)| format!("{} = {c}", i + 1)).collect();
+    let footnotes = vec![
+        format!("Configurations: {}.", legend.join("; ")),
+        match gpu {
+            Some(g) => format!("Time: GPU backend, sum over passes; GPU: {g}"),
+            None => "Time: CPU backend (no GPU in this run), sum over passes, wall clock.".into(),
+        },
+    ];
     Plot {
         title: format!("SSR: relative RMSE (on-screen pixels) vs time per frame ({} backend)", if gpu.is_some() { "GPU" } else { "CPU" }),
         x: Axis::log("milliseconds per frame (sum over passes)"),
