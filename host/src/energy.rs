@@ -751,6 +751,10 @@ fn run_furnace(a: &FurnaceArgs) -> Result<()> {
     for p in [&a.output, &png, &csv_path, &md_path] {
         eprintln!("wrote {}", p.display());
     }
+    let bad = albedo.iter().filter(|v| !v.is_finite()).count();
+    if bad > 0 {
+        bail!("{bad} of {} furnace pixels are NaN or infinite (magenta in {}): the energy tables or options are unusable", albedo.len(), png.display());
+    }
     Ok(())
 }
 

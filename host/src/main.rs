@@ -60,7 +60,7 @@ enum Cmd {
     /// The PNGs show log10 D in [-6, 6], log10(1 + Lambda) in [0, 3] and G1 in [0, 1] (magenta = non-finite).
     Grid {
         /// Output EXR (channels ggx_d, ggx_lambda, ggx_g1); PNGs are written beside it.
-        #[arg(long, short, default_value = "ggx_grid.exr")]
+        #[arg(long, short, default_value = "out/ggx_grid.exr")]
         output: PathBuf,
         /// Columns: theta samples from 0 to 90 degrees (at least 2; width x height at most 2^26).
         #[arg(long, default_value_t = 512)]

@@ -281,3 +281,21 @@ fn every_option_is_documented_and_help_matches_defaults() {
     let t = text(&host(&["ssr", "--help"], &[]));
     assert!(t.contains("0.4 here") && t.contains("HDRP's default is 0.9"), "{t}");
 }
+
+#[test]
+fn ssr_bench_shows_na_where_nothing_was_measured() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = dir.path().join("empty.md");
+    let o = host(
+        &["ssr", "bench", "--scenes", "animated", "--frame", "100000", "--width", "16", "--height", "16", "--reference-samples", "1", "--device", "cpu", "--report", path(&md)],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let report = std::fs::read_to_string(&md).unwrap();
+    assert!(report.contains("no glossy pixels: nothing measured"), "{report}");
+    let rows: Vec<&str> = report.lines().filter(|l| l.starts_with("| HDRP") || l.starts_with("| SSSR")).collect();
+    assert!(!rows.is_empty());
+    for r in rows {
+        assert!(r.contains("| n/a |") && !r.contains("| 0.000 |") && !r.contains("| 0.0000 |"), "{r}");
+    }
+}

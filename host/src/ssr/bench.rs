@@ -182,7 +182,8 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
         }
         let rough = errors(&res, &rough_ref, sc.sky).algorithm;
         let comp = composite(&res.reflection, sc.sky);
-        let flip = flip_mean(&comp, &reference.all, &reference.glossy, gb.width, gb.height);
+        // FLIP of an empty mask compares two black images: not a measurement.
+        let flip = if e.all.pixels > 0 { flip_mean(&comp, &reference.all, &reference.glossy, gb.width, gb.height) } else { f32::NAN };
         let comp4: Vec<f32> = comp.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
         let spec = super::pipeline::Runner::new(cpu).specular(&spec_consts, &packed, &gb.base_color, lut, &comp4)?;
         let spec_rgb: Vec<f32> = spec.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
@@ -210,11 +211,11 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
             None => (None, None),
         };
         eprintln!(
-            "  {name:<8} {:<26} on-screen rel {:.3}  rough rel {:.3}  all rel {:.3}  FLIP {:.4}  CPU {:.1} ms{}",
+            "  {name:<8} {:<26} on-screen rel {}  rough rel {}  all rel {}  FLIP {:.4}  CPU {:.1} ms{}",
             c.label(),
-            e.onscreen.rel,
-            rough.rel,
-            e.all.rel,
+            figure(e.onscreen.rel, 3),
+            figure(rough.rel, 3),
+            figure(e.all.rel, 3),
             flip,
             cpu_ms,
             gpu_ms.map(|t| format!("  GPU {t:.1} ms")).unwrap_or_default()
@@ -489,10 +490,10 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
         let all = errors(&res, &masked(&nm), sc.sky).algorithm;
         let on = errors(&res, &masked(&|i| nm(i) && reference.onscreen_fraction[i] >= 0.999), sc.sky).algorithm;
         let glossy = errors(&res, &reference, sc.sky).algorithm;
-        let _ = write!(out, "| {label} | {:.3} | {:.3} | {:.3} |", glossy.rel, all.rel, on.rel);
+        let _ = write!(out, "| {label} | {} | {} | {} |", figure(glossy.rel, 3), figure(all.rel, 3), figure(on.rel, 3));
         for b in &bands {
             let e = errors(&res, &masked(&|i| nm(i) && ((gb.roughness[i] * 100.0).round() / 100.0) == *b), sc.sky).algorithm;
-            let _ = write!(out, " {:.3} |", e.rel);
+            let _ = write!(out, " {} |", figure(e.rel, 3));
         }
         let (mut sa, mut na) = (0.0f64, 0usize);
         for i in 0..gb.width * gb.height {
@@ -501,8 +502,8 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
                 na += 1;
             }
         }
-        let _ = writeln!(out, " {:.3} |", sa / na.max(1) as f64);
-        eprintln!("{label}: {:.3}", all.rel);
+        let _ = writeln!(out, " {} |", figure(if na > 0 { sa / na as f64 } else { f64::NAN }, 3));
+        eprintln!("{label}: {}", figure(all.rel, 3));
     }
     println!("{out}");
     Ok(())
