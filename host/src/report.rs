@@ -15,8 +15,8 @@ pub struct RunInfo {
     pub cpu: String,
     /// Threads of the CPU backend.
     pub cpu_threads: usize,
-    /// The GPU backend's description, or `None` when only the CPU backend ran.
-    pub gpu: Option<String>,
+    /// The GPU backend's adapter (its description), or `None` when only the CPU backend ran.
+    pub adapter: Option<String>,
     /// 1-, 5- and 15-minute load averages (`/proc/loadavg`) when the run started and ended.
     pub load_average_start: Option<[f64; 3]>,
     pub load_average_end: Option<[f64; 3]>,
@@ -40,12 +40,12 @@ fn cpu_model() -> String {
 
 impl RunInfo {
     /// Start recording: the command line, the machine and the current load average.
-    pub fn start(gpu: Option<String>) -> RunInfo {
+    pub fn start(adapter: Option<String>) -> RunInfo {
         RunInfo {
             command: std::env::args().collect::<Vec<_>>().join(" "),
             cpu: cpu_model(),
             cpu_threads: crate::cpu::threads(),
-            gpu,
+            adapter,
             load_average_start: load_average(),
             load_average_end: None,
             finished_unix_s: 0,
