@@ -465,7 +465,7 @@ pub struct SsrCommand {
 #[derive(Clone, Debug, clap::Subcommand)]
 pub enum SsrSub {
     /// Every configuration on every built-in scene: errors, times, skipped work; writes a
-    /// Markdown report and a PNG of error against time.
+    /// Markdown report, its figures as JSON and a PNG of error against time (default: out/).
     Bench(super::bench::BenchArgs),
     /// The stochastic pipeline with its parts switched off one at a time (non-mirror error per
     /// roughness band), to locate its error; prints a Markdown table.
