@@ -677,6 +677,11 @@ fn run_precompute(a: &PrecomputeArgs) -> Result<()> {
         times.avg.source,
         times.wall * 1e3
     );
+    if t.n_mu.min(t.n_r).min(t.n_avg) < MIN_LUT_CELLS || spec.samples.min(spec.avg_samples) < MIN_LUT_SAMPLES {
+        eprintln!(
+            "warning: tables under {MIN_LUT_CELLS} cells per axis or {MIN_LUT_SAMPLES} samples per cell: `--lut` will reject this .bin (fine for studying convergence)"
+        );
+    }
     let avg = t.write_exr(&a.output)?;
     let bin = a.output.with_extension("bin");
     t.write_bin(&bin)?;
