@@ -11,8 +11,8 @@ pub enum DeviceChoice {
     /// A hardware GPU (discrete, integrated or virtual Vulkan adapter) when there is one, else
     /// the native CPU backend; a software Vulkan adapter (lavapipe) only with `gpu`, because the
     /// native CPU backend runs the same kernels much faster than lavapipe. Says on one line which
-    /// it chose and why. Benchmarks, which always time the CPU backend, take any Vulkan adapter
-    /// (lavapipe included) for their GPU column.
+    /// it chose and why. With HOST_ADAPTER set, the adapter it names. Benchmarks, which always
+    /// time the CPU backend, take any Vulkan adapter (lavapipe included) for their GPU column.
     Auto,
     /// The native CPU backend (same kernel code, all cores).
     Cpu,
@@ -38,6 +38,10 @@ impl Backend {
             DeviceChoice::Cpu => Ok(Backend::Cpu),
             DeviceChoice::Gpu => gpu(),
             DeviceChoice::Auto => {
+                if let Ok(name) = std::env::var("HOST_ADAPTER") {
+                    eprintln!("--device auto: GPU backend, because HOST_ADAPTER={name:?} names an adapter");
+                    return gpu();
+                }
                 crate::gpu::ensure_xdg_runtime_dir();
                 let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
                 desc.backends = wgpu::Backends::VULKAN;

@@ -258,6 +258,12 @@ fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
     assert!(t.contains("--device auto: CPU backend"), "{t}");
     assert!(t.contains("no hardware GPU, only the software adapter") || t.contains("no Vulkan adapter"), "{t}");
     assert!(t.contains("selects: CPU backend"), "{t}");
+    if t.contains("llvmpipe") {
+        // Naming an adapter is asking for it.
+        let o = host(&["info"], &[("HOST_ADAPTER", "llvmpipe")]);
+        assert!(text(&o).contains("because HOST_ADAPTER=\"llvmpipe\" names an adapter"), "{}", text(&o));
+        assert!(text(&o).contains("selects: GPU backend: llvmpipe"), "{}", text(&o));
+    }
 }
 
 #[test]
