@@ -9,7 +9,11 @@ use std::time::Instant;
 /// What the user asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum DeviceChoice {
-    /// The GPU if a Vulkan adapter exists, else the CPU backend (with a one-line notice).
+    /// A hardware GPU (discrete, integrated or virtual Vulkan adapter) when there is one, else
+    /// the native CPU backend; a software Vulkan adapter (lavapipe) only with `gpu`, because the
+    /// native CPU backend runs the same kernels much faster than lavapipe. Says on one line which
+    /// it chose and why. With HOST_ADAPTER set, the adapter it names. Benchmarks, which always
+    /// time the CPU backend, take any Vulkan adapter (lavapipe included) for their GPU column.
     Auto,
     /// The native CPU backend (same kernel code, all cores).
     Cpu,
@@ -24,38 +28,59 @@ pub enum Backend {
 }
 
 impl Backend {
-    /// Create the backend the user chose. The GPU backend refuses SPIR-V that is stale relative
-    /// to the shader sources this binary was built from.
+    /// Create the backend the user chose (see [`DeviceChoice`]). The GPU backend refuses SPIR-V
+    /// that is stale relative to the shader sources this binary was built from.
     pub fn select(choice: DeviceChoice) -> Result<Backend> {
+        let gpu = || -> Result<Backend> {
+            let shader = crate::shaders::load().map_err(anyhow::Error::msg)?;
+            Ok(Backend::Gpu(Box::new(GpuContext::new(&shader)?)))
+        };
         match choice {
             DeviceChoice::Cpu => Ok(Backend::Cpu),
-            DeviceChoice::Gpu | DeviceChoice::Auto => {
-                let shader = crate::shaders::load().map_err(anyhow::Error::msg)?;
-                match GpuContext::new(&shader) {
-                    Ok(ctx) => Ok(Backend::Gpu(Box::new(ctx))),
-                    Err(GpuError::NoAdapter) if choice == DeviceChoice::Auto => {
-                        eprintln!(
-                            "notice: no Vulkan adapter found, running on the CPU backend \
-                             ({} threads); install lavapipe for the GPU path: \
-                             apt-get install -y mesa-vulkan-drivers libvulkan1",
-                            crate::cpu::threads()
-                        );
-                        Ok(Backend::Cpu)
-                    }
-                    Err(e) => Err(e.into()),
+            DeviceChoice::Gpu => gpu(),
+            DeviceChoice::Auto => {
+                if let Ok(name) = std::env::var("HOST_ADAPTER") {
+                    eprintln!("--device auto: GPU backend, because HOST_ADAPTER={name:?} names an adapter");
+                    return gpu();
                 }
+                crate::gpu::ensure_xdg_runtime_dir();
+                let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+                desc.backends = wgpu::Backends::VULKAN;
+                let adapters = pollster::block_on(wgpu::Instance::new(desc).enumerate_adapters(wgpu::Backends::VULKAN));
+                let hardware = |t: wgpu::DeviceType| {
+                    matches!(t, wgpu::DeviceType::DiscreteGpu | wgpu::DeviceType::IntegratedGpu | wgpu::DeviceType::VirtualGpu)
+                };
+                if let Some(a) = adapters.iter().map(|a| a.get_info()).find(|i| hardware(i.device_type)) {
+                    eprintln!("--device auto: GPU backend, hardware adapter {} ({:?})", a.name, a.device_type);
+                    return gpu();
+                }
+                let why = if adapters.is_empty() {
+                    "no Vulkan adapter (install one, e.g. Mesa lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)".to_string()
+                } else {
+                    let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+                    format!("no hardware GPU, only the software adapter(s) {} (slower than the CPU backend; --device gpu uses them)", names.join(", "))
+                };
+                eprintln!("--device auto: CPU backend ({} threads): {why}", crate::cpu::threads());
+                Ok(Backend::Cpu)
             }
         }
     }
 
     /// The GPU backend for a benchmark's GPU columns: `None` for `--device cpu` and for `auto`
-    /// without an adapter, an error for `--device gpu` without one.
+    /// without any Vulkan adapter, an error for `--device gpu` without one. Unlike
+    /// [`Backend::select`], `auto` takes a software adapter (lavapipe) here: a benchmark always
+    /// times the CPU backend too, and its GPU column is what CPU = GPU bits are checked against.
     pub fn gpu_column(choice: DeviceChoice) -> Result<Option<Backend>> {
         match choice {
             DeviceChoice::Cpu => Ok(None),
-            DeviceChoice::Gpu | DeviceChoice::Auto => match Backend::select(choice)? {
-                b @ Backend::Gpu(_) => Ok(Some(b)),
-                Backend::Cpu => Ok(None),
+            DeviceChoice::Gpu => Backend::select(choice).map(Some),
+            DeviceChoice::Auto => match Backend::select(DeviceChoice::Gpu) {
+                Ok(b) => Ok(Some(b)),
+                Err(e) if matches!(e.downcast_ref::<GpuError>(), Some(GpuError::NoAdapter)) => {
+                    eprintln!("notice: no Vulkan adapter: timing the CPU backend only");
+                    Ok(None)
+                }
+                Err(e) => Err(e),
             },
         }
     }

@@ -181,7 +181,7 @@ pub fn time_wgsl(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, inpu
 
 /// Run the benchmark and write the Markdown and JSON reports.
 pub fn run(a: &KernelsArgs) -> Result<()> {
-    crate::io::create_parent_dir(&a.output)?;
+    crate::io::prepare_output(&a.output)?;
     let json_path = a.output.with_extension("json");
     let selected: Vec<&'static FunctionInfo> = if a.functions.is_empty() {
         functions().collect()
@@ -250,8 +250,8 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
         functions: out,
     };
     let md = markdown(&report);
-    std::fs::write(&a.output, &md).with_context(|| format!("writing {}", a.output.display()))?;
-    std::fs::write(&json_path, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", json_path.display()))?;
+    crate::io::write_file(&a.output, &md)?;
+    crate::io::write_file(&json_path, serde_json::to_string_pretty(&report)?)?;
     eprint!("{md}");
     eprintln!("wrote {} and {}", a.output.display(), json_path.display());
     Ok(())

@@ -387,8 +387,9 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     anyhow::ensure!(a.grid >= 4, "--grid must be at least 4");
     anyhow::ensure!(a.rows >= 1024, "--rows must be at least 1024");
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
-    crate::io::create_parent_dir(&a.output)?;
-    crate::io::create_parent_dir(&a.plot)?;
+    // Fail before the measurements when an output cannot be written.
+    crate::io::prepare_output(&a.output)?;
+    crate::io::prepare_output(&a.plot)?;
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
     let grids = [
@@ -465,7 +466,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     pb.finish_and_clear();
     let load = format!("{load_start} at the start, {} at the end", load_average());
     let md = markdown(a, &out, &grids.iter().map(|(g, p)| (*g, p.len())).collect::<Vec<_>>(), &cpu, gpu.as_ref(), &load);
-    std::fs::write(&a.output, md).with_context(|| format!("writing {}", a.output.display()))?;
+    crate::io::write_file(&a.output, md)?;
     eprintln!("wrote {}", a.output.display());
     let json = a.output.with_extension("json");
     let doc = serde_json::json!({
@@ -478,7 +479,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
         "repeats": a.repeats,
         "functions": out,
     });
-    std::fs::write(&json, serde_json::to_string_pretty(&doc)?).with_context(|| format!("writing {}", json.display()))?;
+    crate::io::write_file(&json, serde_json::to_string_pretty(&doc)?)?;
     eprintln!("wrote {}", json.display());
     if !a.no_timing {
         plot(&a.plot, &out, gpu.as_ref().map(|g| g.describe()))?;

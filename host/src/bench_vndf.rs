@@ -226,8 +226,9 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     anyhow::ensure!(a.repeats >= 1, "--repeats must be at least 1");
     anyhow::ensure!((0.0..=1.0).contains(&a.f0), "--f0 must be in [0, 1]");
     anyhow::ensure!(a.budget_ms > 0.0 && a.budget_ms.is_finite(), "--budget-ms must be positive");
-    crate::io::create_parent_dir(&a.output)?;
-    crate::io::create_parent_dir(&a.plot)?;
+    // Fail before the measurements when an output cannot be written.
+    crate::io::prepare_output(&a.output)?;
+    crate::io::prepare_output(&a.plot)?;
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
     let pts = grid();
@@ -282,7 +283,7 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     }
     let load = format!("{load_start} at the start, {} at the end", load_average());
     let md = markdown(a, &pts, &results, &cpu, gpu.as_ref(), gpu_source.as_deref(), &load);
-    std::fs::write(&a.output, md).with_context(|| format!("writing {}", a.output.display()))?;
+    crate::io::write_file(&a.output, md)?;
     eprintln!("wrote {}", a.output.display());
     let json = a.output.with_extension("json");
     let doc = serde_json::json!({
@@ -306,7 +307,7 @@ pub fn run(a: &VndfArgs) -> Result<()> {
             "albedo_variance": r.stats.iter().map(|s| s.var).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
     });
-    std::fs::write(&json, serde_json::to_string_pretty(&doc)?).with_context(|| format!("writing {}", json.display()))?;
+    crate::io::write_file(&json, serde_json::to_string_pretty(&doc)?)?;
     eprintln!("wrote {}", json.display());
     plot(&a.plot, a, &pts, &results, gpu.as_ref().map(|g| g.describe()))?;
     eprintln!("wrote {}", a.plot.display());

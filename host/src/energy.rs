@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The sample sequence of the precompute and furnace kernels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Sequence {
     /// PCG32 random numbers, one generator per (cell, sample index).
     Pcg,
@@ -93,10 +94,22 @@ pub struct Tables {
     pub e: Vec<f32>,
     pub e_prime: Vec<f32>,
     pub e_avg: Vec<f32>,
+    /// Samples per E / E' cell and per E_avg cell they were computed with; 0 = not recorded (a
+    /// buffer read by [`Tables::from_words`], or a file written before the count was stored).
+    pub samples: u32,
+    pub avg_samples: u32,
 }
 
-/// Magic of the compact binary form (`host energy precompute --bin`).
-const BIN_MAGIC: &[u8; 8] = b"GGXELUT1";
+/// Magic of the compact binary form before the sample counts were stored (still read).
+const BIN_MAGIC_V1: &[u8; 8] = b"GGXELUT1";
+/// Magic of the compact binary form: then the two sample counts (u32), then the words.
+const BIN_MAGIC: &[u8; 8] = b"GGXELUT2";
+
+/// The coarsest table a LUT file may hold, per axis (E / E' mu and roughness, E_avg): the
+/// bilinear lookup of a coarser one cannot follow E's fall-off at grazing angles.
+pub const MIN_LUT_CELLS: u32 = 8;
+/// The fewest samples per cell a LUT file may have been computed with (when recorded).
+pub const MIN_LUT_SAMPLES: u32 = 64;
 
 impl Tables {
     /// E_avg(r) = 2 int E_lut(mu, r) mu dmu of the LUT's own E (bilinear between cell centers,
@@ -165,28 +178,80 @@ impl Tables {
             e: v[h..h + cells].to_vec(),
             e_prime: v[h + cells..h + 2 * cells].to_vec(),
             e_avg: v[h + 2 * cells + n_avg as usize..].to_vec(),
+            samples: 0,
+            avg_samples: 0,
         })
     }
 
-    /// Write the compact binary form: "GGXELUT1", the LUT buffer ([`Tables::lut_buffer`]) and
-    /// the kernel's Monte-Carlo E_avg, as little-endian f32 words.
+    /// Check tables read from a file before a kernel uses them: at least [`MIN_LUT_CELLS`] cells
+    /// per axis, at least [`MIN_LUT_SAMPLES`] samples per cell (when recorded), and values the
+    /// compensation formulas can use: 0 < E' <= E <= 1 (within 1e-6; Turquin divides by E) and
+    /// 0 < E_avg <= 1. The error names the first offending value.
+    pub fn validate(&self) -> Result<()> {
+        let (n_mu, n_r, n_avg) = (self.n_mu, self.n_r, self.n_avg);
+        if n_mu.min(n_r).min(n_avg) < MIN_LUT_CELLS {
+            bail!(
+                "the table is {n_mu} x {n_r} (E_avg {n_avg}): too coarse, at least {MIN_LUT_CELLS} cells per axis are needed \
+                 (`host energy precompute --resolution`)"
+            );
+        }
+        for (name, v) in [("E / E'", self.samples), ("E_avg", self.avg_samples)] {
+            if v != 0 && v < MIN_LUT_SAMPLES {
+                bail!("the {name} cells were computed with {v} samples: too few, at least {MIN_LUT_SAMPLES} are needed (`host energy precompute --samples`)");
+            }
+        }
+        const EPS: f32 = 1e-6;
+        let cell = |i: usize| format!("mu cell {}, roughness cell {}", i % n_mu as usize, i / n_mu as usize);
+        for (i, (&e, &ep)) in self.e.iter().zip(&self.e_prime).enumerate() {
+            if !(e > 0.0 && e <= 1.0 + EPS) {
+                bail!("E at {} is {e}: must be in (0, 1]", cell(i));
+            }
+            if !(ep > 0.0 && ep <= e + EPS) {
+                bail!("E' at {} is {ep}: must be in (0, E = {e}]", cell(i));
+            }
+        }
+        for (k, &a) in self.e_avg.iter().enumerate() {
+            if !(a > 0.0 && a <= 1.0 + EPS) {
+                bail!("E_avg at roughness cell {k} is {a}: must be in (0, 1]");
+            }
+        }
+        Ok(())
+    }
+
+    /// Write the compact binary form: "GGXELUT2", the sample counts per E / E' cell and per
+    /// E_avg cell (u32), the LUT buffer ([`Tables::lut_buffer`]) and the kernel's Monte-Carlo
+    /// E_avg as f32 words, all little-endian.
     pub fn write_bin(&self, path: &Path) -> Result<()> {
         let mut bytes = BIN_MAGIC.to_vec();
+        bytes.extend_from_slice(&self.samples.to_le_bytes());
+        bytes.extend_from_slice(&self.avg_samples.to_le_bytes());
         for w in self.lut_buffer().into_iter().chain(self.e_avg.iter().copied()) {
             bytes.extend_from_slice(&w.to_bits().to_le_bytes());
         }
-        crate::io::create_parent_dir(path)?;
-        std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))
+        crate::io::write_file(path, bytes)
     }
 
-    /// Read [`Tables::write_bin`]'s file.
+    /// Read [`Tables::write_bin`]'s file (or the older GGXELUT1 form, without sample counts)
+    /// and [`Tables::validate`] it; errors name the file.
     pub fn read_bin(path: &Path) -> Result<Tables> {
-        let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-        if bytes.len() < 8 || &bytes[..8] != BIN_MAGIC || (bytes.len() - 8) % 4 != 0 {
-            bail!("{} is not an energy LUT (expected the GGXELUT1 header)", path.display());
+        let bytes = std::fs::read(path).with_context(|| format!("reading energy LUT {}", path.display()))?;
+        let word = |c: &[u8]| u32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+        let (counts, body) = match bytes.get(..8) {
+            Some(m) if m == BIN_MAGIC && bytes.len() >= 16 => (Some((word(&bytes[8..12]), word(&bytes[12..16]))), &bytes[16..]),
+            Some(m) if m == BIN_MAGIC_V1 => (None, &bytes[8..]),
+            _ => bail!("{} is not an energy LUT (expected the GGXELUT2 or GGXELUT1 header of `host energy precompute`)", path.display()),
+        };
+        if body.len() % 4 != 0 {
+            bail!("energy LUT {}: {} bytes after the header, not whole 4-byte words (truncated?)", path.display(), body.len());
         }
-        let words: Vec<f32> = bytes[8..].chunks_exact(4).map(|c| f32::from_bits(u32::from_le_bytes([c[0], c[1], c[2], c[3]]))).collect();
-        Tables::from_words(&words).with_context(|| format!("in {}", path.display()))
+        let words: Vec<f32> = body.chunks_exact(4).map(|c| f32::from_bits(word(c))).collect();
+        let mut t = Tables::from_words(&words).with_context(|| format!("energy LUT {}", path.display()))?;
+        match counts {
+            Some((s, a)) => (t.samples, t.avg_samples) = (s, a),
+            None => eprintln!("warning: energy LUT {} does not record its sample count (GGXELUT1); not checked", path.display()),
+        }
+        t.validate().with_context(|| format!("energy LUT {} is unusable", path.display()))?;
+        Ok(t)
     }
 
     /// EXR with channels E and E_prime (n_mu wide, n_r high, top row = roughness cell 0) and
@@ -326,6 +391,8 @@ pub fn precompute(backend: &Backend, spec: &TableSpec, progress: bool) -> Result
         e: sum_e.iter().map(|s| (s / ns) as f32).collect(),
         e_prime: sum_ep.iter().map(|s| (s / ns) as f32).collect(),
         e_avg: sum_avg.iter().map(|s| (s / na) as f32).collect(),
+        samples: spec.samples,
+        avg_samples: spec.avg_samples,
     };
     let times = PrecomputeTimes { table: t_table.expect("one chunk"), avg: t_avg.expect("one chunk"), wall: t0.elapsed().as_secs_f64() };
     Ok((tables, times))
@@ -480,7 +547,7 @@ pub enum EnergyWhat {
     /// row per (metallic, compensation); writes EXR + PNG and the per-sphere albedo (CSV and markdown).
     Furnace(FurnaceArgs),
     /// Error of the tables vs the f64 quadrature reference for several resolutions and sample
-    /// counts, and the precompute time on the CPU and GPU backends: docs/energy-bench.md + PNG.
+    /// counts, and the precompute time on the CPU and GPU backends: Markdown + PNG + JSON.
     Bench(BenchArgs),
 }
 
@@ -499,10 +566,13 @@ pub struct PrecomputeArgs {
     /// Samples per dispatch (progress-bar step).
     #[arg(long, default_value_t = 1024)]
     pub chunk: u32,
+    /// Sample sequence: sobol (scrambled per cell) or pcg (random).
     #[arg(long, value_enum, default_value = "sobol")]
     pub sequence: Sequence,
+    /// Seed of the sequence's scrambling / random numbers.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// Backend: auto, cpu or gpu (see `host --help`).
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
     /// Output EXR; the binary LUT, E_avg EXR and PNGs go beside it.
@@ -540,13 +610,16 @@ pub struct FurnaceArgs {
     /// Monte-Carlo samples per pixel.
     #[arg(long, default_value_t = 256)]
     pub samples: u32,
+    /// Sample sequence: sobol (scrambled per cell) or pcg (random).
     #[arg(long, value_enum, default_value = "sobol")]
     pub sequence: Sequence,
+    /// Seed of the sequence's scrambling / random numbers.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
     /// Roughness below which the specular compensation is skipped.
     #[arg(long, default_value_t = core_energy::COMPENSATION_MIN_ROUGHNESS)]
     pub min_roughness: f32,
+    /// Backend: auto, cpu or gpu (see `host --help`).
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
     /// Output EXR (channels albedo, mu); PNG, CSV and markdown beside it.
@@ -566,8 +639,9 @@ pub struct BenchArgs {
     /// Sample counts to measure.
     #[arg(long, value_delimiter = ',', default_values_t = [256u32, 1024, 4096, 16384])]
     pub samples: Vec<u32>,
-    /// Markdown report (the PNG plot goes beside it).
-    #[arg(long, default_value = "docs/energy-bench.md")]
+    /// Markdown report; the PNG plot and the JSON figures go beside it (docs/energy-bench.md is
+    /// regenerated by `cargo xtask docs-reports`).
+    #[arg(long, default_value = "out/energy-bench.md")]
     pub report: PathBuf,
 }
 
@@ -584,6 +658,7 @@ impl EnergyCli {
 fn run_precompute(a: &PrecomputeArgs) -> Result<()> {
     let spec = a.spec();
     spec.validate()?;
+    crate::io::prepare_output(&a.output)?;
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
     let (t, times) = precompute(&backend, &spec, true)?;
@@ -602,6 +677,11 @@ fn run_precompute(a: &PrecomputeArgs) -> Result<()> {
         times.avg.source,
         times.wall * 1e3
     );
+    if t.n_mu.min(t.n_r).min(t.n_avg) < MIN_LUT_CELLS || spec.samples.min(spec.avg_samples) < MIN_LUT_SAMPLES {
+        eprintln!(
+            "warning: tables under {MIN_LUT_CELLS} cells per axis or {MIN_LUT_SAMPLES} samples per cell: `--lut` will reject this .bin (fine for studying convergence)"
+        );
+    }
     let avg = t.write_exr(&a.output)?;
     let bin = a.output.with_extension("bin");
     t.write_bin(&bin)?;
@@ -630,6 +710,7 @@ pub fn load_or_precompute(backend: &Backend, lut: &Option<PathBuf>) -> Result<Ta
 }
 
 fn run_furnace(a: &FurnaceArgs) -> Result<()> {
+    crate::io::prepare_output(&a.output)?;
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
     let tables = load_or_precompute(&backend, &a.lut)?;
@@ -666,14 +747,18 @@ fn run_furnace(a: &FurnaceArgs) -> Result<()> {
     write_furnace_png(&png, w, height, &albedo)?;
     let csv_path = a.output.with_extension("csv");
     let md_path = a.output.with_extension("md");
-    std::fs::write(&csv_path, &csv).with_context(|| format!("writing {}", csv_path.display()))?;
+    crate::io::write_file(&csv_path, &csv)?;
     let md = format!(
         "Mean directional albedo over each sphere's pixels (= 2 int albedo(mu) mu dmu), base colour 1, rows top to bottom:\n\n{md}"
     );
-    std::fs::write(&md_path, &md).with_context(|| format!("writing {}", md_path.display()))?;
+    crate::io::write_file(&md_path, &md)?;
     print!("{md}");
     for p in [&a.output, &png, &csv_path, &md_path] {
         eprintln!("wrote {}", p.display());
+    }
+    let bad = albedo.iter().filter(|v| !v.is_finite()).count();
+    if bad > 0 {
+        bail!("{bad} of {} furnace pixels are NaN or infinite (magenta in {}): the energy tables or options are unusable", albedo.len(), png.display());
     }
     Ok(())
 }
@@ -697,6 +782,5 @@ pub fn write_furnace_png(path: &Path, w: u32, h: u32, albedo: &[f32]) -> Result<
             image::Rgb([g, g, g])
         };
     }
-    crate::io::create_parent_dir(path)?;
-    img.save(path).with_context(|| format!("writing {}", path.display()))
+    crate::io::write_png(path, &img)
 }

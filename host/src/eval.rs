@@ -231,22 +231,16 @@ pub fn write_table(f: &FunctionInfo, table: &Table, outputs: &[f32], path: &Path
     if path.as_os_str() == "-" {
         return write_csv(f, table, outputs, std::io::stdout().lock());
     }
-    let tmp = crate::io::temp_beside(path);
-    let result = (|| -> Result<()> {
-        let file = std::fs::File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
+    crate::io::write_atomic(path, |tmp| {
+        let file = std::fs::File::create(tmp)?;
         let mut w = std::io::BufWriter::new(file);
         match Format::of(path) {
             Format::Npy => crate::npy::write(&mut w, &[table.rows, f.outputs.len()], outputs)?,
             Format::Csv => write_csv(f, table, outputs, &mut w)?,
         }
         w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, path)?;
         Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.with_context(|| format!("writing {}", path.display()))
+    })
 }
 
 /// Evaluate `f` over `table` on `backend`.

@@ -64,6 +64,7 @@ impl GpuContext {
     /// Pick a Vulkan adapter (discrete > integrated > virtual > CPU; `HOST_ADAPTER=substring`
     /// selects by name), create a device and load the SPIR-V.
     pub fn new(shader: &ShaderModule) -> Result<Self, GpuError> {
+        ensure_xdg_runtime_dir();
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
         desc.backends = wgpu::Backends::VULKAN;
         let instance = wgpu::Instance::new(desc);
@@ -530,4 +531,28 @@ fn padded(data: &[u8]) -> Cow<'_, [u8]> {
 pub fn groups_2d(groups: u32) -> (u32, u32) {
     let (gx, gy) = shader_core::ssr::stochastic::groups_2d(groups);
     (gx, gy.max(1))
+}
+
+/// Give the Vulkan loader and Mesa a usable `XDG_RUNTIME_DIR` (lavapipe prints "error:
+/// XDG_RUNTIME_DIR is invalid" otherwise): when it is unset, or not a directory owned by this
+/// user with mode 0700, point it at `<temp dir>/host-runtime-<uid>`, created with mode 0700.
+/// Call before creating a wgpu instance; does nothing after the first call.
+pub fn ensure_xdg_runtime_dir() {
+    use std::os::unix::fs::{DirBuilderExt, MetadataExt, PermissionsExt};
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let Ok(uid) = std::fs::metadata("/proc/self").map(|m| m.uid()) else { return };
+        let usable = |p: &std::path::Path| {
+            std::fs::metadata(p).is_ok_and(|m| m.is_dir() && m.uid() == uid && m.permissions().mode() & 0o777 == 0o700)
+        };
+        if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| usable(std::path::Path::new(&d))) {
+            return;
+        }
+        let dir = std::env::temp_dir().join(format!("host-runtime-{uid}"));
+        let _ = std::fs::DirBuilder::new().mode(0o700).create(&dir);
+        if usable(&dir) {
+            // Called once, before the Vulkan loader starts reading the environment.
+            std::env::set_var("XDG_RUNTIME_DIR", &dir);
+        }
+    });
 }

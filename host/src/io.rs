@@ -19,11 +19,8 @@ pub fn write_exr(path: &Path, width: usize, height: usize, channels: &[(&str, &[
         Encoding::FAST_LOSSLESS,
         AnyChannels::sort(list),
     );
-    create_parent_dir(path)?;
-    Image::from_layer(layer)
-        .write()
-        .to_file(path)
-        .with_context(|| format!("writing {}", path.display()))
+    let image = Image::from_layer(layer);
+    write_atomic(path, |tmp| image.write().to_file(tmp).map_err(anyhow::Error::from))
 }
 
 /// Create the directory a file is about to be written to.
@@ -36,11 +33,44 @@ pub fn create_parent_dir(path: &Path) -> Result<()> {
     }
 }
 
-/// A temporary path in the same directory as `path` (so a rename onto `path` is atomic), for
-/// writers that must not leave a half-written file or remove an existing one on failure.
-pub fn temp_beside(path: &Path) -> std::path::PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+/// Check, before any work, that output file `path` can be written: create its directory and
+/// create and remove a probe file there. Every command that writes files calls this first, so
+/// a read-only or missing location fails at once, naming the directory and the file.
+pub fn prepare_output(path: &Path) -> Result<()> {
+    create_parent_dir(path).with_context(|| format!("cannot write {}", path.display()))?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let probe = dir.join(format!(".host-write-probe-{}", std::process::id()));
+    std::fs::File::create(&probe)
+        .and_then(|_| std::fs::remove_file(&probe))
+        .with_context(|| format!("cannot write {}: directory {} is not writable", path.display(), dir.display()))
+}
+
+/// Write `path` through `write`, which writes a temporary file in the same directory (its name
+/// ends in `path`'s own name, so an extension-sniffing encoder sees the same extension); the
+/// temporary file then replaces `path` by a rename. A failed write leaves an existing `path`
+/// untouched and removes the temporary file. Errors name `path`.
+pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    create_parent_dir(path)?;
+    let name = path.file_name().with_context(|| format!("{} is not a file name", path.display()))?;
+    let tmp = path.with_file_name(format!(".tmp-{}-{}", std::process::id(), name.to_string_lossy()));
+    let result = write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(anyhow::Error::from));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.with_context(|| format!("writing {}", path.display()))
+}
+
+/// Write a text (or any byte) file atomically ([`write_atomic`]).
+pub fn write_file(path: &Path, contents: impl AsRef<[u8]>) -> Result<()> {
+    write_atomic(path, |tmp| std::fs::write(tmp, contents.as_ref()).map_err(anyhow::Error::from))
+}
+
+/// Save an RGB image as PNG atomically ([`write_atomic`]).
+pub fn write_png(path: &Path, img: &image::RgbImage) -> Result<()> {
+    write_atomic(path, |tmp| img.save_with_format(tmp, image::ImageFormat::Png).map_err(anyhow::Error::from))
 }
 
 /// A float image read from an EXR file: its size and named channels.
@@ -113,8 +143,7 @@ pub fn write_heatmap_png(path: &Path, width: usize, height: usize, data: &[f32],
         let v = data[i];
         *p = if v.is_finite() { image::Rgb(colormap((v - lo) / (hi - lo))) } else { image::Rgb([255, 0, 255]) };
     }
-    create_parent_dir(path)?;
-    img.save(path).with_context(|| format!("writing {}", path.display()))
+    write_png(path, &img)
 }
 
 /// Tone-map linear HDR RGB (interleaved) to an 8-bit sRGB PNG with exposure `2^ev` and Reinhard.
@@ -132,6 +161,30 @@ pub fn write_rgb_preview_png(path: &Path, width: usize, height: usize, rgb: &[f3
         }
         *p = image::Rgb(px);
     }
-    create_parent_dir(path)?;
-    img.save(path).with_context(|| format!("writing {}", path.display()))
+    write_png(path, &img)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_write_keeps_the_old_file_and_leaves_no_temporary() {
+        let dir = std::env::temp_dir().join(format!("host_io_test_{}", std::process::id()));
+        let path = dir.join("a.png");
+        write_file(&path, "old").unwrap();
+        let e = write_atomic(&path, |tmp| {
+            std::fs::write(tmp, "half")?;
+            anyhow::bail!("encoder failed")
+        })
+        .unwrap_err();
+        assert!(format!("{e:#}").contains(&path.display().to_string()), "{e:#}");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+        write_file(&path, "new").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
+        prepare_output(&dir.join("sub/b.exr")).unwrap();
+        assert!(prepare_output(&path.join("c.exr")).is_err());
+        let _ = std::fs::remove_dir_all(dir);
+    }
 }

@@ -2,6 +2,7 @@
 //! evaluator behind `host eval`, and file I/O.
 
 pub mod backend;
+pub mod cli_args;
 pub mod cpu;
 pub mod gpu;
 pub mod shaders;
@@ -13,6 +14,8 @@ pub mod eval;
 pub mod grid;
 pub mod io;
 pub mod npy;
+pub mod plot;
+pub mod report;
 pub mod ssr;
 pub mod bench_kernels;
 pub mod bench_microfacet;

@@ -1,7 +1,7 @@
 //! `host`: run the shading kernels on the GPU (wgpu/Vulkan) or the CPU and write the results.
 
 use anyhow::{Context, Result};
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use host::{Backend, DeviceChoice};
 use std::path::PathBuf;
 
@@ -12,8 +12,8 @@ use std::path::PathBuf;
     about = "Microfacet shading kernels written once in Rust, run on the GPU (rust-gpu SPIR-V via wgpu) or natively on the CPU",
     long_about = "Microfacet shading kernels written once in Rust, run on the GPU (rust-gpu SPIR-V via \
 wgpu/Vulkan: a real GPU or Mesa lavapipe) or natively on the CPU with the very same code.\n\n\
---device auto uses a Vulkan adapter when one exists and falls back to the CPU backend with a notice. \
-HOST_ADAPTER=<substring> picks an adapter by name."
+--device auto uses a hardware GPU when there is one and otherwise the native CPU backend (a software \
+Vulkan adapter such as lavapipe only with --device gpu), and says which and why. HOST_ADAPTER=<substring> picks an adapter by name."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -24,6 +24,7 @@ struct Cli {
 enum Cmd {
     /// Show the Vulkan adapters, the backend `--device` would pick, and the SPIR-V manifest.
     Info {
+        /// The choice whose backend to report: auto, cpu or gpu.
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
     },
@@ -53,6 +54,7 @@ enum Cmd {
         /// created; an existing file is replaced only once the whole result is written.
         #[arg(long, short)]
         output: Option<PathBuf>,
+        /// Backend: auto, cpu or gpu (see `host --help`).
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
         /// Accept NaN and infinite inputs (for stress testing) instead of rejecting them.
@@ -66,19 +68,24 @@ enum Cmd {
     /// The PNGs show log10 D in [-6, 6], log10(1 + Lambda) in [0, 3] and G1 in [0, 1] (magenta = non-finite).
     Grid {
         /// Output EXR (channels ggx_d, ggx_lambda, ggx_g1); PNGs are written beside it.
-        #[arg(long, short, default_value = "ggx_grid.exr")]
+        #[arg(long, short, default_value = "out/ggx_grid.exr")]
         output: PathBuf,
+        /// Columns: theta samples from 0 to 90 degrees (at least 2; width x height at most 2^26).
         #[arg(long, default_value_t = 512)]
         width: usize,
+        /// Rows: alpha_x samples, log-spaced (at least 2).
         #[arg(long, default_value_t = 256)]
         height: usize,
+        /// alpha_x of the bottom row (positive).
         #[arg(long, default_value_t = 1e-3)]
         alpha_min: f32,
+        /// alpha_x of the top row (above --alpha-min).
         #[arg(long, default_value_t = 1.0)]
         alpha_max: f32,
-        /// alpha_y / alpha_x.
+        /// alpha_y / alpha_x (positive; 1 = isotropic).
         #[arg(long, default_value_t = 1.0)]
         aspect: f32,
+        /// Backend: auto, cpu or gpu (see `host --help`).
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
     },
@@ -89,20 +96,26 @@ enum Cmd {
     /// views beside it, and prints the time per pass and the error against the reference.
     /// `host ssr bench` runs every configuration on every scene and writes the report.
     Ssr(host::ssr::cli::SsrCommand),
-    /// Cost and accuracy benchmarks: `host bench microfacet` (writes docs/microfacet-cost.md and .png).
+    /// Cost and accuracy benchmarks: `host bench microfacet`, `host bench vndf`.
     Bench(host::bench_microfacet::BenchCli),
     /// Energy compensation for GGX (Kulla-Conty, Turquin): `host energy precompute | furnace | bench`.
     Energy(host::energy::EnergyCli),
 }
 
 fn main() {
-    if let Err(e) = run(Cli::parse()) {
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    // Whether an option of `host ssr` was given on the command line (not a default).
+    let ssr_given = |id: &str| {
+        matches.subcommand_matches("ssr").and_then(|m| m.value_source(id)) == Some(clap::parser::ValueSource::CommandLine)
+    };
+    if let Err(e) = run(cli, &ssr_given) {
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
     match cli.cmd {
         Cmd::Info { device } => info(device),
         Cmd::Bench(b) => b.run(),
@@ -121,7 +134,7 @@ fn run(cli: Cli) -> Result<()> {
             let input = input.context("--input is required (a .csv or .npy file, or - for CSV on standard input)")?;
             let output = output.filter(|p| p.as_os_str() != "-");
             if let Some(p) = &output {
-                host::io::create_parent_dir(p)?;
+                host::io::prepare_output(p)?;
             }
             let t0 = std::time::Instant::now();
             let table = host::eval::read_table(f, &input, allow_nonfinite)?;
@@ -148,10 +161,11 @@ fn run(cli: Cli) -> Result<()> {
             );
             Ok(())
         }
-        Cmd::Ssr(cmd) => host::ssr::cli::main(cmd),
+        Cmd::Ssr(cmd) => host::ssr::cli::main(cmd, ssr_given),
         Cmd::Grid { output, width, height, alpha_min, alpha_max, aspect, device } => {
             let spec = host::grid::GridSpec { width, height, alpha_min, alpha_max, aspect };
             spec.validate()?;
+            host::io::prepare_output(&output)?;
             let backend = Backend::select(device)?;
             eprintln!("{}", backend.describe());
             let results = host::grid::evaluate(&backend, &spec)?;
@@ -177,6 +191,7 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn info(device: DeviceChoice) -> Result<()> {
+    host::gpu::ensure_xdg_runtime_dir();
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
     desc.backends = wgpu::Backends::VULKAN;
     let instance = wgpu::Instance::new(desc);

@@ -11,6 +11,11 @@ fn host(args: &[&str], env: &[(&str, &str)]) -> Output {
     cmd.output().expect("running host")
 }
 
+/// `host` with `XDG_RUNTIME_DIR` removed from its environment.
+fn host_without_xdg(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_host")).args(args).env_remove("XDG_RUNTIME_DIR").output().expect("running host")
+}
+
 fn text(o: &Output) -> String {
     format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
 }
@@ -64,7 +69,7 @@ fn auto_falls_back_to_cpu_without_an_adapter_and_gpu_fails_clearly() {
     let exr = dir.path().join("g.exr");
     let o = host(&["grid", "-o", exr.to_str().unwrap(), "--width", "16", "--height", "8"], NO_VULKAN);
     assert!(o.status.success(), "{}", text(&o));
-    assert!(text(&o).contains("no Vulkan adapter found, running on the CPU backend"), "{}", text(&o));
+    assert!(text(&o).contains("--device auto: CPU backend") && text(&o).contains("no Vulkan adapter"), "{}", text(&o));
     assert!(exr.exists());
     let o = host(&["grid", "-o", exr.to_str().unwrap(), "--device", "gpu"], NO_VULKAN);
     assert!(!o.status.success());
@@ -87,4 +92,216 @@ fn grid_writes_an_exr_a_user_can_open_and_pngs() {
     let o = host(&["grid", "--alpha-min", "0"], &[]);
     assert!(!o.status.success());
     assert!(text(&o).contains("--alpha-min must be a positive number"), "{}", text(&o));
+}
+
+/// Assert that `host args` fails and that its message contains every one of `needles`.
+#[track_caller]
+fn fails_with(args: &[&str], needles: &[&str]) -> String {
+    let o = host(args, &[]);
+    let t = text(&o);
+    assert!(!o.status.success(), "host {args:?} succeeded:\n{t}");
+    assert!(!t.contains("panicked"), "host {args:?} panicked:\n{t}");
+    for n in needles {
+        assert!(t.contains(n), "host {args:?}: {n:?} missing from:\n{t}");
+    }
+    t
+}
+
+fn path(p: &std::path::Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn ssr_rejects_out_of_range_options_naming_option_and_range() {
+    for (arg, option, range) in [
+        ("--thickness=-1", "--thickness", "[0, 1]"),
+        ("--thickness=nan", "--thickness", "[0, 1]"),
+        ("--screen-fade=-5", "--screen-fade", "[0, 1]"),
+        ("--bias=2", "--bias", "[0, 1)"),
+        ("--bias=-3", "--bias", "[0, 1)"),
+        ("--bias=1", "--bias", "[0, 1)"),
+        ("--temporal-frames=0", "--temporal-frames", "1.."),
+        ("--max-steps=0", "--max-steps", "1.."),
+        ("--min-smoothness=1.5", "--min-smoothness", "[0, 1]"),
+        ("--smoothness-fade-start=-0.1", "--smoothness-fade-start", "[0, 1]"),
+        ("--hiz-roughness-cut=2", "--hiz-roughness-cut", "[0, 1]"),
+        ("--spp=9", "--spp", "1..=8"),
+        ("--rays-per-quad=3", "--rays-per-quad", "1, 2, 4"),
+        ("--reference-samples=0", "--reference-samples", "1.."),
+        ("--width=0", "--width", "1 to 4096"),
+    ] {
+        fails_with(&["ssr", arg, "--device", "cpu"], &[option, range]);
+    }
+}
+
+#[test]
+fn ssr_rejects_options_of_the_other_pipeline_and_a_fade_before_the_cut() {
+    fails_with(&["ssr", "--resolve", "3x3", "--pipeline", "sssr", "--device", "cpu"], &["--resolve applies to --pipeline hdrp only"]);
+    fails_with(&["ssr", "--trace", "linear16", "--pipeline", "sssr", "--device", "cpu"], &["--trace applies to --pipeline hdrp only"]);
+    fails_with(&["ssr", "--spp", "4", "--device", "cpu"], &["--spp applies to --pipeline sssr only"]);
+    fails_with(&["ssr", "--no-reuse", "--pipeline", "hdrp", "--device", "cpu"], &["--no-reuse applies to --pipeline sssr only"]);
+    fails_with(&["ssr", "--sampler", "caps", "--device", "cpu"], &["--sampler applies to"]);
+    fails_with(&["ssr", "--min-smoothness", "0.7", "--device", "cpu"], &["--smoothness-fade-start (0.5) must be at least --min-smoothness (0.7)"]);
+}
+
+#[test]
+fn ssr_with_no_glossy_pixel_says_nothing_was_measured() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ssr.exr");
+    let o = host(
+        &["ssr", "--scene", "animated", "--frame", "100000", "--width", "32", "--height", "32", "--device", "cpu", "-o", path(&out)],
+        &[],
+    );
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(t.contains("no glossy pixels: nothing measured"), "{t}");
+    assert!(!t.contains("RMSE 0.0000"), "{t}");
+}
+
+/// Write an energy LUT with `host energy precompute` and return its .bin path.
+fn precompute_lut(dir: &std::path::Path, name: &str, resolution: &str, samples: &str) -> std::path::PathBuf {
+    let exr = dir.join(format!("{name}.exr"));
+    let o = host(&["energy", "precompute", "--resolution", resolution, "--samples", samples, "--device", "cpu", "-o", path(&exr)], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    exr.with_extension("bin")
+}
+
+#[test]
+fn unusable_energy_luts_are_rejected_naming_file_and_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f.exr");
+    let one_sample = precompute_lut(dir.path(), "one_sample", "8", "1");
+    fails_with(&["energy", "furnace", "--lut", path(&one_sample), "--device", "cpu", "-o", path(&out)], &[path(&one_sample), "1 samples: too few"]);
+    let tiny = precompute_lut(dir.path(), "tiny", "1", "64");
+    fails_with(&["ssr", "--lut", path(&tiny), "--width", "16", "--height", "16", "--device", "cpu", "-o", path(&out)], &[path(&tiny), "1 x 1", "too coarse"]);
+    // A NaN in E: the first E word follows the magic, the two counts and the 4-word header.
+    let good = precompute_lut(dir.path(), "good", "8", "64");
+    let mut bytes = std::fs::read(&good).unwrap();
+    bytes[32..36].copy_from_slice(&f32::NAN.to_bits().to_le_bytes());
+    let nan = dir.path().join("nan.bin");
+    std::fs::write(&nan, &bytes).unwrap();
+    fails_with(&["energy", "furnace", "--lut", path(&nan), "--device", "cpu", "-o", path(&out)], &[path(&nan), "E at mu cell 0, roughness cell 0 is NaN"]);
+    let truncated = dir.path().join("truncated.bin");
+    std::fs::write(&truncated, &bytes[..bytes.len() - 6]).unwrap();
+    fails_with(&["energy", "furnace", "--lut", path(&truncated), "--device", "cpu", "-o", path(&out)], &[path(&truncated)]);
+}
+
+#[test]
+fn unwritable_outputs_fail_before_the_work_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    // A regular file where a directory is needed: unwritable even for root.
+    let file = dir.path().join("file");
+    std::fs::write(&file, "x").unwrap();
+    let bad = file.join("sub/out.exr");
+    let bad_md = file.join("sub/report.md");
+    for args in [
+        vec!["grid", "--device", "cpu", "-o", path(&bad)],
+        vec!["energy", "precompute", "--device", "cpu", "-o", path(&bad)],
+        vec!["energy", "furnace", "--device", "cpu", "-o", path(&bad)],
+        vec!["energy", "bench", "--device", "cpu", "--report", path(&bad_md)],
+        vec!["ssr", "--device", "cpu", "-o", path(&bad)],
+        vec!["ssr", "bench", "--device", "cpu", "--report", path(&bad_md)],
+        vec!["bench", "microfacet", "--device", "cpu", "--output", path(&bad_md)],
+        vec!["bench", "vndf", "--device", "cpu", "--output", path(&bad_md)],
+    ] {
+        let t0 = std::time::Instant::now();
+        let t = fails_with(&args, &["cannot write", path(&file)]);
+        assert!(!t.contains("precomputing"), "{args:?} worked before failing:\n{t}");
+        assert!(t0.elapsed().as_secs() < 5, "{args:?} took {:?} to fail", t0.elapsed());
+    }
+    // A read-only directory (root may write anyway: then there is nothing to test).
+    let ro = dir.path().join("ro");
+    std::fs::create_dir(&ro).unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+    if std::fs::write(ro.join("probe"), "x").is_err() {
+        fails_with(&["energy", "furnace", "--device", "cpu", "-o", path(&ro.join("f.exr"))], &["not writable", path(&ro)]);
+    }
+}
+
+#[test]
+fn benches_write_to_out_by_default_with_json_beside_the_markdown() {
+    for (args, default) in [(["energy", "bench", "--help"], "out/energy-bench.md"), (["ssr", "bench", "--help"], "out/ssr_bench.md")] {
+        let o = host(&args, &[]);
+        assert!(text(&o).contains(default), "{}", text(&o));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let md = dir.path().join("ssr.md");
+    let o = host(
+        &["ssr", "bench", "--scenes", "floor", "--width", "24", "--height", "24", "--reference-samples", "2", "--device", "cpu", "--report", path(&md)],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(md.with_extension("png").exists());
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(md.with_extension("json")).unwrap()).unwrap();
+    assert!(json["run"]["cpu_threads"].as_u64().unwrap() >= 1);
+    assert!(json["run"]["load_average_start"].is_array());
+    assert!(!json["rows"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn xdg_runtime_dir_is_provided_when_unset() {
+    let o = host_without_xdg(&["info"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("XDG_RUNTIME_DIR"), "{}", text(&o));
+}
+
+#[test]
+fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
+    let o = host(&["info"], &[]);
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    if t.contains("DiscreteGpu") || t.contains("IntegratedGpu") || t.contains("VirtualGpu") {
+        assert!(t.contains("--device auto: GPU backend, hardware adapter"), "{t}");
+        return;
+    }
+    assert!(t.contains("--device auto: CPU backend"), "{t}");
+    assert!(t.contains("no hardware GPU, only the software adapter") || t.contains("no Vulkan adapter"), "{t}");
+    assert!(t.contains("selects: CPU backend"), "{t}");
+    if t.contains("llvmpipe") {
+        // Naming an adapter is asking for it.
+        let o = host(&["info"], &[("HOST_ADAPTER", "llvmpipe")]);
+        assert!(text(&o).contains("because HOST_ADAPTER=\"llvmpipe\" names an adapter"), "{}", text(&o));
+        assert!(text(&o).contains("selects: GPU backend: llvmpipe"), "{}", text(&o));
+    }
+}
+
+#[test]
+fn every_option_is_documented_and_help_matches_defaults() {
+    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"]] {
+        let mut args = cmd.to_vec();
+        args.push("--help");
+        let o = host(&args, &[]);
+        let t = text(&o);
+        let lines: Vec<&str> = t.lines().map(str::trim).collect();
+        for (i, line) in lines.iter().enumerate().filter(|(_, l)| l.starts_with("--") || (l.starts_with('-') && l.get(2..3) == Some(",") && !l.starts_with("-h,"))) {
+            // Long help: "--opt <OPT>" then its text, then "[default: x]": the text must come first.
+            // (or "--opt <OPT>  text [default: x]" on one line when it fits).
+            let help = match line.split_once("  ") {
+                Some((_, h)) => h.trim(),
+                None => lines.get(i + 1).copied().unwrap_or(""),
+            };
+            assert!(!help.is_empty() && !help.starts_with('[') && !help.starts_with('-'), "host {cmd:?}: undocumented option: {line}");
+        }
+    }
+    let t = text(&host(&["ssr", "--help"], &[]));
+    assert!(t.contains("0.4 here") && t.contains("HDRP's default is 0.9"), "{t}");
+}
+
+#[test]
+fn ssr_bench_shows_na_where_nothing_was_measured() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = dir.path().join("empty.md");
+    let o = host(
+        &["ssr", "bench", "--scenes", "animated", "--frame", "100000", "--width", "16", "--height", "16", "--reference-samples", "1", "--device", "cpu", "--report", path(&md)],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let report = std::fs::read_to_string(&md).unwrap();
+    assert!(report.contains("no glossy pixels: nothing measured"), "{report}");
+    let rows: Vec<&str> = report.lines().filter(|l| l.starts_with("| HDRP") || l.starts_with("| SSSR")).collect();
+    assert!(!rows.is_empty());
+    for r in rows {
+        assert!(r.contains("| n/a |") && !r.contains("| 0.000 |") && !r.contains("| 0.0000 |"), "{r}");
+    }
 }

@@ -97,6 +97,6 @@ fn failed_write_keeps_the_existing_file() {
     assert!(!o.status.success());
     assert!(text(&o).contains(&format!("writing {}", out.display())), "{}", text(&o));
     assert_eq!(std::fs::read_to_string(out.join("keep")).unwrap(), "keep");
-    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().ends_with(".tmp")).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with(".tmp")).collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
 }

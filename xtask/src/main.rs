@@ -25,8 +25,8 @@ enum Cmd {
     /// Compile `shader-kernels` to SPIR-V with rust-gpu and store it (with its manifest) under host/shaders/.
     ///
     /// The first run on a machine installs the pinned nightly (rust-src, rustc-dev, llvm-tools) and
-    /// builds the `rustc_codegen_spirv` backend into the user cache (~/.cache/rust-gpu): about 25
-    /// minutes on 2 cores. Later runs reuse it and take about a minute.
+    /// builds the `rustc_codegen_spirv` backend into the user cache (~/.cache/rust-gpu); the
+    /// README's "Toolchains and the shader build" gives the measured time. Later runs reuse it.
     BuildShaders {
         /// Rebuild into a temporary directory and fail if the committed SPIR-V or manifest differ.
         #[arg(long)]
@@ -45,6 +45,20 @@ enum Cmd {
         #[arg(trailing_var_arg = true)]
         rest: Vec<String>,
     },
+    /// Regenerate every measured report under docs/ from fresh runs of the host's benchmarks.
+    ///
+    /// Builds the host (release) and runs, with explicit docs/ output paths: bench microfacet
+    /// (docs/microfacet-cost.md, .png), bench vndf (docs/vndf-bench.md, .png), energy bench
+    /// (docs/energy-bench.md, .png, .json), energy furnace (docs/energy-furnace.png) and ssr
+    /// bench (docs/ssr_error_vs_time.png; its Markdown replaces the "Measured comparison" section
+    /// of docs/ssr.md up to "### What the numbers say"). Other outputs go to out/docs-reports/.
+    /// Takes tens of minutes on 2 cores; review the diff before committing (the prose around
+    /// the tables quotes figures that may need updating).
+    DocsReports {
+        /// Only these reports (comma separated): microfacet, vndf, energy, furnace, ssr.
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+    },
 }
 
 fn workspace_root() -> PathBuf {
@@ -61,7 +75,81 @@ fn main() -> Result<()> {
             install_lavapipe,
             rest,
         } => test(install_lavapipe, &rest),
+        Cmd::DocsReports { only } => docs_reports(&only),
     }
+}
+
+/// The reports of `cargo xtask docs-reports`: (name, host arguments). Outputs that are not
+/// docs/ files go to out/docs-reports/.
+const REPORTS: &[(&str, &[&str])] = &[
+    (
+        "microfacet",
+        &["bench", "microfacet", "--device", "gpu", "--rows", "262144", "--repeats", "5", "--grid", "64", "--output", "docs/microfacet-cost.md", "--plot", "docs/microfacet-cost.png"],
+    ),
+    (
+        "vndf",
+        &[
+            "bench", "vndf", "--device", "auto", "--samples", "1048576", "--rows", "1048576", "--repeats", "5", "--f0", "0.04", "--budget-ms", "1", "--output",
+            "docs/vndf-bench.md", "--plot", "docs/vndf-bench.png",
+        ],
+    ),
+    ("energy", &["energy", "bench", "--device", "auto", "--report", "docs/energy-bench.md"]),
+    ("furnace", &["energy", "furnace", "--device", "auto", "--spheres", "11", "--size", "64", "--samples", "256", "-o", "out/docs-reports/energy-furnace.exr"]),
+    (
+        "ssr",
+        &[
+            "ssr", "bench", "--device", "auto", "--width", "128", "--height", "128", "--reference-samples", "64", "--frame", "20", "--report",
+            "out/docs-reports/ssr_bench.md", "--plot", "docs/ssr_error_vs_time.png",
+        ],
+    ),
+];
+
+/// The section of docs/ssr.md that `host ssr bench`'s Markdown replaces: from this heading up to
+/// (not including) the hand-written discussion.
+const SSR_SECTION_START: &str = "## Measured comparison (`host ssr bench`)";
+const SSR_SECTION_END: &str = "### What the numbers say";
+
+fn docs_reports(only: &[String]) -> Result<()> {
+    let root = workspace_root();
+    for name in only {
+        if !REPORTS.iter().any(|(n, _)| n == name) {
+            bail!("unknown report {name:?}; known: {}", REPORTS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", "));
+        }
+    }
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let status = Command::new(&cargo).current_dir(&root).args(["build", "--release", "-p", "host"]).status().context("running cargo build")?;
+    if !status.success() {
+        bail!("cargo build --release -p host failed");
+    }
+    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("target"));
+    let host = target.join("release").join("host");
+    for (name, args) in REPORTS.iter().filter(|(n, _)| only.is_empty() || only.iter().any(|o| o == n)) {
+        eprintln!("[docs-reports] {name}: host {}", args.join(" "));
+        let t0 = Instant::now();
+        let status = Command::new(&host).current_dir(&root).args(*args).status().with_context(|| format!("running {}", host.display()))?;
+        if !status.success() {
+            bail!("[docs-reports] {name} failed: host {}", args.join(" "));
+        }
+        match *name {
+            "furnace" => {
+                std::fs::copy(root.join("out/docs-reports/energy-furnace.png"), root.join("docs/energy-furnace.png")).context("copying the furnace PNG to docs/")?;
+            }
+            "ssr" => splice_ssr_section(&root.join("docs/ssr.md"), &std::fs::read_to_string(root.join("out/docs-reports/ssr_bench.md"))?)?,
+            _ => {}
+        }
+        eprintln!("[docs-reports] {name}: done in {:.0?}", t0.elapsed());
+    }
+    eprintln!("[docs-reports] review `git diff docs/` (the prose quotes some of the figures)");
+    Ok(())
+}
+
+/// Replace docs/ssr.md's measured section with `section`.
+fn splice_ssr_section(doc: &Path, section: &str) -> Result<()> {
+    let text = std::fs::read_to_string(doc).with_context(|| format!("reading {}", doc.display()))?;
+    let start = text.find(SSR_SECTION_START).with_context(|| format!("{} has no heading {SSR_SECTION_START:?}", doc.display()))?;
+    let end = text[start..].find(SSR_SECTION_END).map(|e| start + e).with_context(|| format!("{} has no heading {SSR_SECTION_END:?}", doc.display()))?;
+    let new = format!("{}{}\n{}", &text[..start], section.trim_end(), &text[end..]);
+    std::fs::write(doc, new).with_context(|| format!("writing {}", doc.display()))
 }
 
 fn build_shaders(check: bool) -> Result<()> {
@@ -70,7 +158,8 @@ fn build_shaders(check: bool) -> Result<()> {
     let t0 = Instant::now();
     eprintln!(
         "[build-shaders] preparing rust-gpu {SPIRV_BUILDER} backend on {TOOLCHAIN} \
-         (cached in ~/.cache/rust-gpu; the first build takes ~25 minutes)"
+         (cached in ~/.cache/rust-gpu; the first build on a machine takes long: see the README, \
+         \"Toolchains and the shader build\")"
     );
     let mut install = cargo_gpu_install::install::Install::from_shader_crate(shader_crate.clone());
     install.auto_install_rust_toolchain = true;

@@ -3,7 +3,8 @@
 //! accumulation, sparse 1 ray per quad) on every built-in scene: RMSE and relative RMSE against
 //! the ray-traced reference (on pixels whose reference rays stay on screen, and over all glossy
 //! pixels), FLIP on tone-mapped images, time per pass on the CPU and GPU backends, skipped work;
-//! written as a Markdown report and a PNG of error against time.
+//! written as a Markdown report, a JSON file of the same figures and a PNG of error against
+//! time (default under out/; `cargo xtask docs-reports` writes docs/ssr.md's section and plot).
 
 use super::cli::{errors, Errors};
 use super::metrics::{composite, tonemap};
@@ -11,6 +12,8 @@ use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode, 
 use super::reference::{render_reference, Reference};
 use super::scene::scene;
 use super::sssr::{run_sssr, Reprojection, SssrSettings};
+use super::metrics::figure;
+use crate::cli_args::pixels;
 use crate::{Backend, DeviceChoice};
 use anyhow::{Context, Result};
 use std::fmt::Write as _;
@@ -21,25 +24,36 @@ pub struct BenchArgs {
     /// Scenes, comma separated.
     #[arg(long, default_value = "floor,hallway,thin,animated")]
     pub scenes: String,
-    #[arg(long, default_value_t = 192)]
+    /// Image width in pixels (1 to 4096).
+    #[arg(long, default_value_t = 192, value_parser = pixels)]
     pub width: usize,
-    #[arg(long, default_value_t = 192)]
+    /// Image height in pixels (1 to 4096).
+    #[arg(long, default_value_t = 192, value_parser = pixels)]
     pub height: usize,
-    /// Reference rays per glossy pixel.
-    #[arg(long, default_value_t = 64)]
+    /// Reference rays per glossy pixel, at least 1.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub reference_samples: u32,
     /// Frame of the animated scene's camera path (temporal runs end there).
     #[arg(long, default_value_t = 20)]
     pub frame: u32,
-    /// Also time every configuration on the GPU backend (when a Vulkan adapter exists).
+    /// Also time every configuration on the GPU backend: auto = any Vulkan adapter, lavapipe
+    /// included (none: CPU only), gpu = an error without one, cpu = CPU only.
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
-    /// Markdown report (the "Measured comparison" section of docs/ssr.md is one).
+    /// Markdown report (the "Measured comparison" section of docs/ssr.md is one; `cargo xtask
+    /// docs-reports` regenerates it); the JSON figures go beside it (`.json`).
     #[arg(long, default_value = "out/ssr_bench.md")]
     pub report: PathBuf,
-    /// PNG of error against time.
-    #[arg(long, default_value = "docs/ssr_error_vs_time.png")]
-    pub plot: PathBuf,
+    /// PNG of error against time [default: the report's path with extension .png].
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+impl BenchArgs {
+    /// The PNG's path.
+    pub fn plot_path(&self) -> PathBuf {
+        self.plot.clone().unwrap_or_else(|| self.report.with_extension("png"))
+    }
 }
 
 /// One configuration.
@@ -121,7 +135,7 @@ pub fn flip_mean(a: &[f32], b: &[f32], mask: &[bool], w: usize, h: usize) -> f32
 }
 
 /// One measured row.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct Row {
     pub scene: String,
     pub config: String,
@@ -168,7 +182,8 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
         }
         let rough = errors(&res, &rough_ref, sc.sky).algorithm;
         let comp = composite(&res.reflection, sc.sky);
-        let flip = flip_mean(&comp, &reference.all, &reference.glossy, gb.width, gb.height);
+        // FLIP of an empty mask compares two black images: not a measurement.
+        let flip = if e.all.pixels > 0 { flip_mean(&comp, &reference.all, &reference.glossy, gb.width, gb.height) } else { f32::NAN };
         let comp4: Vec<f32> = comp.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
         let spec = super::pipeline::Runner::new(cpu).specular(&spec_consts, &packed, &gb.base_color, lut, &comp4)?;
         let spec_rgb: Vec<f32> = spec.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
@@ -196,11 +211,11 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
             None => (None, None),
         };
         eprintln!(
-            "  {name:<8} {:<26} on-screen rel {:.3}  rough rel {:.3}  all rel {:.3}  FLIP {:.4}  CPU {:.1} ms{}",
+            "  {name:<8} {:<26} on-screen rel {}  rough rel {}  all rel {}  FLIP {:.4}  CPU {:.1} ms{}",
             c.label(),
-            e.onscreen.rel,
-            rough.rel,
-            e.all.rel,
+            figure(e.onscreen.rel, 3),
+            figure(rough.rel, 3),
+            figure(e.all.rel, 3),
             flip,
             cpu_ms,
             gpu_ms.map(|t| format!("  GPU {t:.1} ms")).unwrap_or_default()
@@ -226,22 +241,16 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
 
 /// `host ssr bench`.
 pub fn run(a: &BenchArgs) -> Result<()> {
+    let plot_path = a.plot_path();
+    crate::io::prepare_output(&a.report)?;
+    crate::io::prepare_output(&plot_path)?;
     let cpu = Backend::Cpu;
-    let gpu = match a.device {
-        DeviceChoice::Cpu => None,
-        _ => match Backend::select(DeviceChoice::Gpu) {
-            Ok(b) => Some(b),
-            Err(e) if a.device == DeviceChoice::Auto => {
-                eprintln!("notice: no GPU backend ({e:#}); timing the CPU backend only");
-                None
-            }
-            Err(e) => return Err(e),
-        },
-    };
+    let gpu = Backend::gpu_column(a.device)?;
     let gpu_name = gpu.as_ref().map(|g| g.describe());
     if let Some(n) = &gpu_name {
         eprintln!("{n}");
     }
+    let info = crate::report::RunInfo::start(gpu_name.clone());
     // Energy tables for the specular column (default precompute, deterministic Sobol points).
     let lut = crate::energy::precompute(&cpu, &crate::energy::TableSpec::default(), false)?.0.lut_buffer();
     let mut all = Vec::new();
@@ -254,11 +263,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         all.extend(rows);
     }
     let md = report(a, &all, &refs, gpu_name.as_deref());
-    crate::io::create_parent_dir(&a.report)?;
-    std::fs::write(&a.report, md).with_context(|| format!("writing {}", a.report.display()))?;
-    eprintln!("wrote {}", a.report.display());
-    plot(&a.plot, &all, gpu_name.as_deref())?;
-    eprintln!("wrote {}", a.plot.display());
+    crate::io::write_file(&a.report, md)?;
+    plot(&plot_path, &all, gpu_name.as_deref())?;
+    let json = crate::report::write_json(&a.report, info, &all)?;
+    for p in [&a.report, &plot_path, &json] {
+        eprintln!("wrote {}", p.display());
+    }
     Ok(())
 }
 
@@ -274,7 +284,7 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
         a.reference_samples,
         a.frame,
         a.report.display(),
-        a.plot.display(),
+        a.plot_path().display(),
         a.width,
         a.height,
         a.reference_samples
@@ -294,6 +304,9 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
          identical.\n"
     );
     for (scene, glossy, on) in refs {
+        if *glossy == 0 {
+            let _ = writeln!(s, "### {scene}: no glossy pixels: nothing measured (errors n/a)\n");
+        }
         let _ = writeln!(s, "### {scene} ({glossy} glossy pixels, {on} with all reference rays on screen)\n");
         let _ = writeln!(
             s,
@@ -303,15 +316,15 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
         for r in rows.iter().filter(|r| &r.scene == scene) {
             let _ = writeln!(
                 s,
-                "| {} | {:.4} | {:.3} | {:.3} | {:.4} | {:.3} | {:.4} | {:.3} | {:.1} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
                 r.config,
-                r.errors.onscreen.rmse,
-                r.errors.onscreen.rel,
-                r.rough.rel,
-                r.errors.all.rmse,
-                r.errors.all.rel,
-                r.flip,
-                r.specular.rel,
+                figure(r.errors.onscreen.rmse, 4),
+                figure(r.errors.onscreen.rel, 3),
+                figure(r.rough.rel, 3),
+                figure(r.errors.all.rmse, 4),
+                figure(r.errors.all.rel, 3),
+                figure(f64::from(r.flip), 4),
+                figure(r.specular.rel, 3),
                 r.cpu_ms,
                 r.gpu_ms.map(|t| format!("{t:.1}")).unwrap_or_else(|| "-".into()),
                 match (r.tiles_skipped, r.pixels_skipped) {
@@ -335,82 +348,47 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
     s
 }
 
-/// Relative RMSE (on-screen pixels) against time per frame, one colour per scene.
+/// Relative RMSE (on-screen pixels) against time per frame, one series per scene, each point
+/// labelled with its configuration's number (the footnote lists them); rows where nothing was
+/// measured are left out.
 fn plot(path: &Path, rows: &[Row], gpu: Option<&str>) -> Result<()> {
-    use plotters::prelude::*;
-    static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
-    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    let (w, h) = (1800u32, 1200u32);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    let time = |r: &Row| r.gpu_ms.unwrap_or(r.cpu_ms).max(1e-3);
-    let pts: Vec<(f64, f64, &Row)> = rows.iter().map(|r| (time(r), r.errors.onscreen.rel.max(1e-4), r)).collect();
-    anyhow::ensure!(!pts.is_empty(), "nothing measured");
-    let (xmin, xmax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
-    let (ymin, ymax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
-    let scenes: Vec<String> = {
-        let mut v: Vec<String> = rows.iter().map(|r| r.scene.clone()).collect();
-        v.dedup();
-        v
-    };
-    let palette = [RGBColor(31, 119, 180), RGBColor(214, 39, 40), RGBColor(44, 160, 44), RGBColor(148, 103, 189), RGBColor(255, 127, 14)];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let caption = format!(
-            "SSR: relative RMSE (on-screen pixels) vs time per frame ({} backend)",
-            if gpu.is_some() { "GPU" } else { "CPU" }
-        );
-        let mut chart = ChartBuilder::on(&root)
-            .caption(caption, ("sans-serif", 30))
-            .margin(30)
-            .x_label_area_size(70)
-            .y_label_area_size(100)
-            .build_cartesian_2d((xmin / 1.5..xmax * 2.5).log_scale(), (ymin / 1.3..ymax * 1.3).log_scale())
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("milliseconds per frame (sum over passes)")
-            .y_desc("relative RMSE vs on-screen reference")
-            .label_style(("sans-serif", 20))
-            .axis_desc_style(("sans-serif", 24))
-            .draw()
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        for (k, sname) in scenes.iter().enumerate() {
-            let c = palette[k % palette.len()];
-            chart
-                .draw_series(pts.iter().filter(|p| &p.2.scene == sname).map(|p| Circle::new((p.0, p.1), 7, c.filled())))
-                .map_err(|e| anyhow::anyhow!("{e}"))?
-                .label(sname.clone())
-                .legend(move |(x, y)| Circle::new((x, y), 7, c.filled()));
-        }
-        chart
-            .configure_series_labels()
-            .label_font(("sans-serif", 22))
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        let mut placed: Vec<(i32, i32)> = Vec::new();
-        for p in &pts {
-            let k = scenes.iter().position(|s| s == &p.2.scene).unwrap_or(0);
-            let (px, py) = chart.backend_coord(&(p.0, p.1));
-            let mut y = py - 8;
-            while placed.iter().any(|&(x0, y0)| (x0 - px).abs() < 200 && (y0 - y).abs() < 15) {
-                y += 15;
+    use crate::plot::{Axis, Plot, Series};
+    let mut configs: Vec<&str> = Vec::new();
+    let mut series: Vec<Series> = Vec::new();
+    for r in rows {
+        let n = match configs.iter().position(|c| *c == r.config) {
+            Some(i) => i + 1,
+            None => {
+                configs.push(&r.config);
+                configs.len()
             }
-            placed.push((px, y));
-            root.draw(&Text::new(p.2.config.clone(), (px + 10, y), ("sans-serif", 14).into_font().color(&palette[k % palette.len()])))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        };
+        let p = (r.gpu_ms.unwrap_or(r.cpu_ms), r.errors.onscreen.rel);
+        match series.iter_mut().find(|s| s.label == r.scene) {
+            Some(s) => {
+                s.points.push(p);
+                s.point_labels.push(n.to_string());
+            }
+            None => series.push(Series { point_labels: vec![n.to_string()], ..Series::scatter(&r.scene, vec![p]) }),
         }
-        if let Some(g) = gpu {
-            root.draw(&Text::new(format!("GPU: {}", g.chars().take(110).collect::<String>()), (40, h as i32 - 30), ("sans-serif", 16).into_font()))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
     }
-    crate::io::create_parent_dir(path)?;
-    image::save_buffer(path, &buf, w, h, image::ColorType::Rgb8).with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
+    let legend: Vec<String> = configs.iter().enumerate().map(|(i, c)| format!("{} = {c}", i + 1)).collect();
+    let footnotes = vec![
+        format!("Configurations: {}.", legend.join("; ")),
+        match gpu {
+            Some(g) => format!("Time: GPU backend, sum over passes; GPU: {g}"),
+            None => "Time: CPU backend (no GPU in this run), sum over passes, wall clock.".into(),
+        },
+    ];
+    Plot {
+        title: format!("SSR: relative RMSE (on-screen pixels) vs time per frame ({} backend)", if gpu.is_some() { "GPU" } else { "CPU" }),
+        x: Axis::log("milliseconds per frame (sum over passes)"),
+        y: Axis::log("relative RMSE vs on-screen reference"),
+        series,
+        footnotes,
+        size: (1800, 1200),
+    }
+    .save_png(path)
 }
 
 /// `host ssr ablate`: the stochastic pipeline with its parts switched off one at a time, and
@@ -418,16 +396,20 @@ fn plot(path: &Path, rows: &[Row], gpu: Option<&str>) -> Result<()> {
 /// glossy pixels, in total and per roughness value (to find where SSSR's error comes from).
 #[derive(Clone, Debug, clap::Args)]
 pub struct AblateArgs {
+    /// Built-in scene: floor, hallway, thin, animated (animated: frame 20).
     #[arg(long, default_value = "floor")]
     pub scene: String,
-    #[arg(long, default_value_t = 128)]
+    /// Image width in pixels (1 to 4096).
+    #[arg(long, default_value_t = 128, value_parser = pixels)]
     pub width: usize,
-    #[arg(long, default_value_t = 128)]
+    /// Image height in pixels (1 to 4096).
+    #[arg(long, default_value_t = 128, value_parser = pixels)]
     pub height: usize,
-    #[arg(long, default_value_t = 64)]
+    /// Reference rays per glossy pixel, at least 1.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub reference_samples: u32,
-    /// Rays per pixel of the SSSR variants.
-    #[arg(long, default_value_t = 4)]
+    /// Rays per tracing pixel of the SSSR variants (1 to 8; the temporal rows use 1).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=8))]
     pub spp: u32,
 }
 
@@ -508,10 +490,10 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
         let all = errors(&res, &masked(&nm), sc.sky).algorithm;
         let on = errors(&res, &masked(&|i| nm(i) && reference.onscreen_fraction[i] >= 0.999), sc.sky).algorithm;
         let glossy = errors(&res, &reference, sc.sky).algorithm;
-        let _ = write!(out, "| {label} | {:.3} | {:.3} | {:.3} |", glossy.rel, all.rel, on.rel);
+        let _ = write!(out, "| {label} | {} | {} | {} |", figure(glossy.rel, 3), figure(all.rel, 3), figure(on.rel, 3));
         for b in &bands {
             let e = errors(&res, &masked(&|i| nm(i) && ((gb.roughness[i] * 100.0).round() / 100.0) == *b), sc.sky).algorithm;
-            let _ = write!(out, " {:.3} |", e.rel);
+            let _ = write!(out, " {} |", figure(e.rel, 3));
         }
         let (mut sa, mut na) = (0.0f64, 0usize);
         for i in 0..gb.width * gb.height {
@@ -520,8 +502,8 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
                 na += 1;
             }
         }
-        let _ = writeln!(out, " {:.3} |", sa / na.max(1) as f64);
-        eprintln!("{label}: {:.3}", all.rel);
+        let _ = writeln!(out, " {} |", figure(if na > 0 { sa / na as f64 } else { f64::NAN }, 3));
+        eprintln!("{label}: {}", figure(all.rel, 3));
     }
     println!("{out}");
     Ok(())
@@ -534,13 +516,16 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
 /// warm-up; both include uploads and read-backs.
 #[derive(Clone, Debug, clap::Args)]
 pub struct WallArgs {
+    /// Built-in scene: floor, hallway, thin, animated (frame 0).
     #[arg(long, default_value = "floor")]
     pub scene: String,
     /// Image sizes to time, e.g. 128x128,512x512.
     #[arg(long, default_value = "128x128,512x512")]
     pub sizes: String,
-    #[arg(long, default_value_t = 7)]
-    pub repeats: usize,
+    /// Timed runs of each variant per size, at least 1, after one untimed warm-up run; the
+    /// table shows their medians.
+    #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeats: u32,
 }
 
 fn parse_size(s: &str) -> Result<(usize, usize)> {
@@ -556,7 +541,6 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 pub fn run_wall(a: &WallArgs) -> Result<()> {
-    anyhow::ensure!(a.repeats > 0, "--repeats must be at least 1");
     let gpu = Backend::select(DeviceChoice::Gpu)?;
     eprintln!("{}", gpu.describe());
     let sc = scene(&a.scene)?;

@@ -3,12 +3,13 @@
 //! reference where the scene is procedural. `host ssr bench` writes the comparison report.
 
 use super::gbuffer::GBuffer;
-use super::metrics::{composite, error, ErrorStats};
+use super::metrics::{composite, error, figure, ErrorStats};
 use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode, VndfSampler};
 use super::reference::{render_reference, Reference};
 use super::scene::{scene, Scene};
 use super::sssr::{run_sssr, Reprojection, SssrSettings};
 use crate::io::{write_exr, write_heatmap_png, write_rgb_preview_png};
+use crate::cli_args::{f32_in, f32_in_half_open, pixels, u32_of};
 use crate::{Backend, DeviceChoice};
 use anyhow::{bail, Context, Result};
 use shader_core::ssr::trace::{info, RAY_STRIDE};
@@ -32,61 +33,67 @@ pub struct RunArgs {
     /// G-buffer EXR (with its camera JSON beside it) instead of a built-in scene.
     #[arg(long)]
     pub input: Option<PathBuf>,
+    /// The SSR pipeline; options marked HDRP or SSSR apply to that pipeline only (an error otherwise).
     #[arg(long, value_enum, default_value = "hdrp")]
     pub pipeline: PipelineChoice,
-    /// Tracer: hiz, linear<N> (e.g. linear32) or brute (every pixel along the ray).
+    /// HDRP: tracer: hiz, linear<N> (e.g. linear32, N in 1..=4096) or brute (every pixel along the ray).
     #[arg(long, default_value = "hiz")]
     pub trace: String,
-    /// HDRP resolve: approx (SSR_APPROX), 3x3 or cross5.
+    /// HDRP: resolve: approx (SSR_APPROX), 3x3 or cross5.
     #[arg(long, default_value = "approx")]
     pub resolve: String,
-    #[arg(long, default_value_t = 256)]
+    /// Image width in pixels of a built-in scene (1 to 4096).
+    #[arg(long, default_value_t = 256, value_parser = pixels)]
     pub width: usize,
-    #[arg(long, default_value_t = 256)]
+    /// Image height in pixels of a built-in scene (1 to 4096).
+    #[arg(long, default_value_t = 256, value_parser = pixels)]
     pub height: usize,
     /// Frame of an animated scene's camera path.
     #[arg(long, default_value_t = 0)]
     pub frame: u32,
-    /// Hi-Z iteration limit (HDRP presets: 16, 32, 64).
-    #[arg(long, default_value_t = 64)]
+    /// Hi-Z iteration limit, at least 1 (HDRP presets: 16, 32, 64).
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_steps: u32,
-    /// Object thickness relative to depth (HDRP default 0.01).
-    #[arg(long, default_value_t = 0.01)]
+    /// Object thickness relative to depth, in [0, 1] (HDRP's default and range).
+    #[arg(long, default_value_t = 0.01, value_parser = f32_in(0.0, 1.0))]
     pub thickness: f32,
-    /// Screen-edge fade length (HDRP default 0.1).
-    #[arg(long, default_value_t = 0.1)]
+    /// Screen-edge fade length in [0, 1] (HDRP's default and range).
+    #[arg(long, default_value_t = 0.1, value_parser = f32_in(0.0, 1.0))]
     pub screen_fade: f32,
-    /// Trace pixels with perceptual roughness <= 1 - min_smoothness (HDRP default 0.9).
-    #[arg(long, default_value_t = 0.4)]
+    /// Trace pixels with perceptual roughness <= 1 - min_smoothness, in [0, 1] (0.4 here, to
+    /// study glossy reflections; HDRP's default is 0.9).
+    #[arg(long, default_value_t = 0.4, value_parser = f32_in(0.0, 1.0))]
     pub min_smoothness: f32,
-    /// Roughness fade starts at 1 - smoothness_fade_start (HDRP default 0.9).
-    #[arg(long, default_value_t = 0.5)]
+    /// The roughness fade starts at perceptual roughness 1 - smoothness_fade_start; in
+    /// [--min-smoothness, 1] (0.5 here; HDRP's default is 0.9).
+    #[arg(long, default_value_t = 0.5, value_parser = f32_in(0.0, 1.0))]
     pub smoothness_fade_start: f32,
     /// SSSR: tracing pixels per 2x2 quad: 4 = full resolution, 1 = half resolution (one tracing
     /// pixel per quad, the pattern rotating with the frame), 2 = checkerboard; the other pixels of
     /// the quad reuse their neighbours' rays in the resolve.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, value_parser = u32_of(&[1, 2, 4]))]
     pub rays_per_quad: u32,
     /// SSSR: rays per tracing pixel (1 to 8).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
     pub spp: u32,
     /// SSSR: resolve each pixel from its own rays only (no neighbour reuse).
     #[arg(long)]
     pub no_reuse: bool,
-    /// SSSR: frames of temporal accumulation (1 = none).
-    #[arg(long, default_value_t = 1)]
+    /// SSSR: frames of temporal accumulation, at least 1 (1 = none).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub temporal_frames: u32,
-    /// SSSR: importance-sampling bias (the VNDF's radial u is scaled by 1 - bias).
-    #[arg(long, default_value_t = 0.1)]
+    /// SSSR: importance-sampling bias in [0, 1) (the VNDF's radial u is scaled by 1 - bias; 0 =
+    /// unbiased).
+    #[arg(long, default_value_t = 0.1, value_parser = f32_in_half_open(0.0, 1.0))]
     pub bias: f32,
-    /// SSSR: perceptual roughness from which rays use the 16-step linear march instead of Hi-Z
-    /// (1 = Hi-Z for every ray; Stachowiak's split is about 0.2).
-    #[arg(long, default_value_t = 1.0)]
+    /// SSSR: perceptual roughness in [0, 1] from which rays use the 16-step linear march instead
+    /// of Hi-Z (1 = Hi-Z for every ray; Stachowiak's split is about 0.2).
+    #[arg(long, default_value_t = 1.0, value_parser = f32_in(0.0, 1.0))]
     pub hiz_roughness_cut: f32,
     /// SSSR: disable filtered importance sampling (colour pyramid mip from the ray cone).
     #[arg(long)]
     pub no_fis: bool,
-    /// GGX visible-normal sampler of the stochastic rays (SSSR, HDRP 3x3 / cross5).
+    /// GGX visible-normal sampler of the stochastic rays (SSSR, and HDRP with --resolve 3x3 or cross5).
     #[arg(long, value_enum, default_value = "heitz")]
     pub sampler: VndfSampler,
     /// SSSR temporal reprojection of the history: through the virtual image of the reflected
@@ -97,9 +104,10 @@ pub struct RunArgs {
     /// SSSR: disable the depth/normal history rejection (the neighbourhood clamp stays).
     #[arg(long)]
     pub no_history_rejection: bool,
-    /// Reference rays per glossy pixel (procedural scenes).
-    #[arg(long, default_value_t = 64)]
+    /// Reference rays per glossy pixel (procedural scenes), at least 1.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub reference_samples: u32,
+    /// Backend: auto, cpu or gpu (see `host --help`).
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
     /// Energy tables (`host energy precompute` .bin) for the specular output's preintegrated FG
@@ -108,7 +116,46 @@ pub struct RunArgs {
     pub lut: Option<PathBuf>,
 }
 
+/// Options that apply to one pipeline only (field names = clap ids).
+const HDRP_ONLY: &[&str] = &["trace", "resolve"];
+const SSSR_ONLY: &[&str] = &[
+    "rays_per_quad",
+    "spp",
+    "no_reuse",
+    "temporal_frames",
+    "bias",
+    "hiz_roughness_cut",
+    "no_fis",
+    "reprojection",
+    "no_history_rejection",
+];
+
 impl RunArgs {
+    /// Check what single options' ranges cannot: that options given on the command line
+    /// (`given(id)`, id = field name) apply to the chosen pipeline, and the smoothness order.
+    pub fn validate(&self, given: &dyn Fn(&str) -> bool) -> Result<()> {
+        let flag = |id: &str| format!("--{}", id.replace('_', "-"));
+        let (own, other, other_name) = match self.pipeline {
+            PipelineChoice::Hdrp => ("hdrp", SSSR_ONLY, "sssr"),
+            PipelineChoice::Sssr => ("sssr", HDRP_ONLY, "hdrp"),
+        };
+        if let Some(id) = other.iter().find(|id| given(id)) {
+            bail!("{} applies to --pipeline {other_name} only, not to --pipeline {own}", flag(id));
+        }
+        if self.pipeline == PipelineChoice::Hdrp && given("sampler") && parse_resolve(&self.resolve)? == HdrpResolve::Approx {
+            bail!("--sampler applies to --pipeline sssr and to --resolve 3x3 or cross5, not to --resolve approx");
+        }
+        if self.smoothness_fade_start < self.min_smoothness {
+            bail!(
+                "--smoothness-fade-start ({}) must be at least --min-smoothness ({}): the fade ends where tracing stops",
+                self.smoothness_fade_start,
+                self.min_smoothness
+            );
+        }
+        parse_trace(&self.trace)?;
+        Ok(())
+    }
+
     pub fn settings(&self) -> SsrSettings {
         SsrSettings {
             thickness: self.thickness,
@@ -192,7 +239,7 @@ pub fn run_pipeline(backend: &Backend, input: &Input, a: &RunArgs) -> Result<Ssr
 }
 
 /// Errors of a result against a reference.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct Errors {
     /// Against the on-screen reference, on pixels whose reference rays all stay on screen.
     pub onscreen: ErrorStats,
@@ -332,6 +379,10 @@ fn write_specular(out: &Path, result: &SsrResult, specular: &[f32], reference: O
 
 /// `host ssr`.
 pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()> {
+    crate::io::prepare_output(output)?;
+    if let Some(p) = save_gbuffer {
+        crate::io::prepare_output(p)?;
+    }
     let input = load_input(a)?;
     if let Some(p) = save_gbuffer {
         input.gbuffer.save(p)?;
@@ -339,10 +390,10 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
     }
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
+    let tables = crate::energy::load_or_precompute(&backend, &a.lut)?;
     let mut result = run_pipeline(&backend, &input, a)?;
     // Specular = composited reflection x FG (energy tables), a pass of its own.
     let sky = input.scene.as_ref().map(|s| s.sky).unwrap_or([0.0; 3]);
-    let tables = crate::energy::load_or_precompute(&backend, &a.lut)?;
     let consts = super::pipeline::build_params(&input.gbuffer, &a.settings())?;
     let comp: Vec<f32> = composite(&result.reflection, sky).chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
     let mut r = super::pipeline::Runner::new(&backend);
@@ -361,17 +412,28 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
         Some(s) => {
             let r = render_reference(s, &input.gbuffer, 1.0 - a.min_smoothness, a.reference_samples);
             let e = errors(&result, &r, sky);
-            eprintln!(
-                "  error vs reference: on-screen pixels ({}) RMSE {:.4} rel {:.3}; all glossy ({}) RMSE {:.4} rel {:.3} (vs on-screen reference: RMSE {:.4} rel {:.3})",
-                e.onscreen.pixels, e.onscreen.rmse, e.onscreen.rel, e.all.pixels, e.all.rmse, e.all.rel, e.algorithm.rmse, e.algorithm.rel
-            );
-            let spec_rgb: Vec<f32> = specular.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
-            let es = error(&spec_rgb, &r.specular_onscreen, &r.glossy);
-            let ea = error(&spec_rgb, &r.specular_all, &r.glossy);
-            eprintln!(
-                "  specular (x FG) vs reference integral: glossy pixels ({}) on-screen RMSE {:.4} rel {:.3}; all geometry RMSE {:.4} rel {:.3}",
-                es.pixels, es.rmse, es.rel, ea.rmse, ea.rel
-            );
+            if e.all.pixels == 0 {
+                eprintln!("  error vs reference: n/a: no glossy pixels: nothing measured (see --min-smoothness, --frame)");
+            } else {
+                let spec_rgb: Vec<f32> = specular.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
+                let es = error(&spec_rgb, &r.specular_onscreen, &r.glossy);
+                let ea = error(&spec_rgb, &r.specular_all, &r.glossy);
+                let f = |e: &ErrorStats| format!("RMSE {} rel {}", figure(e.rmse, 4), figure(e.rel, 3));
+                eprintln!(
+                    "  error vs reference: on-screen pixels ({}) {}; all glossy ({}) {} (vs on-screen reference: {})",
+                    e.onscreen.pixels,
+                    f(&e.onscreen),
+                    e.all.pixels,
+                    f(&e.all),
+                    f(&e.algorithm)
+                );
+                eprintln!(
+                    "  specular (x FG) vs reference integral: glossy pixels ({}) on-screen {}; all geometry {}",
+                    es.pixels,
+                    f(&es),
+                    f(&ea)
+                );
+            }
             Some(r)
         }
         None => None,
@@ -403,7 +465,7 @@ pub struct SsrCommand {
 #[derive(Clone, Debug, clap::Subcommand)]
 pub enum SsrSub {
     /// Every configuration on every built-in scene: errors, times, skipped work; writes a
-    /// Markdown report and a PNG of error against time.
+    /// Markdown report, its figures as JSON and a PNG of error against time (default: out/).
     Bench(super::bench::BenchArgs),
     /// The stochastic pipeline with its parts switched off one at a time (non-mirror error per
     /// roughness band), to locate its error; prints a Markdown table.
@@ -413,11 +475,15 @@ pub enum SsrSub {
     Wall(super::bench::WallArgs),
 }
 
-pub fn main(cmd: SsrCommand) -> Result<()> {
+/// `host ssr ...`; `given(id)` says whether option `id` (a field name) was on the command line.
+pub fn main(cmd: SsrCommand, given: &dyn Fn(&str) -> bool) -> Result<()> {
     match cmd.sub {
         Some(SsrSub::Bench(b)) => super::bench::run(&b),
         Some(SsrSub::Ablate(b)) => super::bench::run_ablate(&b),
         Some(SsrSub::Wall(b)) => super::bench::run_wall(&b),
-        None => run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref()),
+        None => {
+            cmd.run.validate(given)?;
+            run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref())
+        }
     }
 }

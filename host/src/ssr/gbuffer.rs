@@ -170,7 +170,7 @@ impl GBuffer {
             previous_camera: self.previous_camera,
         };
         let json = serde_json::to_string_pretty(&cams)?;
-        std::fs::write(camera_path(exr), json).with_context(|| format!("writing {}", camera_path(exr).display()))
+        crate::io::write_file(&camera_path(exr), json)
     }
 
     /// Read an EXR written by [`GBuffer::save`] (or by another tool with the same channels) and

@@ -12,17 +12,34 @@ pub fn composite(reflection: &[f32], sky: [f32; 3]) -> Vec<f32> {
         .collect()
 }
 
-/// Error of an RGB image against a reference over the pixels of a mask.
-#[derive(Clone, Copy, Debug, Default)]
+/// Error of an RGB image against a reference over the pixels of a mask. An empty mask measures
+/// nothing: `pixels` = 0 and `rmse` = `rel` = NaN, shown as "n/a" by [`figure`], never as 0.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct ErrorStats {
     pub pixels: usize,
-    /// sqrt(mean over pixels and channels of (a - ref)^2).
+    /// sqrt(mean over pixels and channels of (a - ref)^2); NaN when no pixel was measured.
     pub rmse: f64,
-    /// RMSE / RMS(ref): the error relative to the reference's magnitude.
+    /// RMSE / RMS(ref): the error relative to the reference's magnitude; NaN when no pixel was
+    /// measured or the reference is black there.
     pub rel: f64,
 }
 
-/// RMSE and relative RMSE of `a` against `reference` (RGB interleaved) over pixels where `mask`.
+impl ErrorStats {
+    /// Nothing measured.
+    pub const EMPTY: ErrorStats = ErrorStats { pixels: 0, rmse: f64::NAN, rel: f64::NAN };
+}
+
+/// A measured figure with `digits` decimals, or "n/a" where nothing was measured (NaN).
+pub fn figure(v: f64, digits: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.digits$}")
+    } else {
+        "n/a".into()
+    }
+}
+
+/// RMSE and relative RMSE of `a` against `reference` (RGB interleaved) over pixels where `mask`;
+/// [`ErrorStats::EMPTY`] for an empty mask.
 pub fn error(a: &[f32], reference: &[f32], mask: &[bool]) -> ErrorStats {
     let mut se = 0.0f64;
     let mut sr = 0.0f64;
@@ -39,11 +56,11 @@ pub fn error(a: &[f32], reference: &[f32], mask: &[bool]) -> ErrorStats {
         }
     }
     if n == 0 {
-        return ErrorStats::default();
+        return ErrorStats::EMPTY;
     }
     let rmse = (se / (3 * n) as f64).sqrt();
     let rms = (sr / (3 * n) as f64).sqrt();
-    ErrorStats { pixels: n, rmse, rel: if rms > 0.0 { rmse / rms } else { 0.0 } }
+    ErrorStats { pixels: n, rmse, rel: if rms > 0.0 { rmse / rms } else { f64::NAN } }
 }
 
 /// Reinhard + sRGB tone map of linear RGB to [0, 1] (the same curve as the PNG previews).

@@ -1,0 +1,76 @@
+//! What every benchmark records beside its Markdown report: a JSON file with the machine, the
+//! adapter, the load average before and after the run and the per-row figures, so runs can be
+//! compared by script (`<report>.json`, written by [`write_json`]).
+
+use anyhow::Result;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The machine a benchmark ran on and how busy it was.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunInfo {
+    /// The command line (`host ...`).
+    pub command: String,
+    /// CPU model (`/proc/cpuinfo`), or "unknown".
+    pub cpu: String,
+    /// Threads of the CPU backend.
+    pub cpu_threads: usize,
+    /// The GPU backend's adapter (its description), or `None` when only the CPU backend ran.
+    pub adapter: Option<String>,
+    /// 1-, 5- and 15-minute load averages (`/proc/loadavg`) when the run started and ended.
+    pub load_average_start: Option<[f64; 3]>,
+    pub load_average_end: Option<[f64; 3]>,
+    /// Seconds since the Unix epoch when the run ended.
+    pub finished_unix_s: u64,
+}
+
+/// The 1-, 5- and 15-minute load averages, where the system reports them.
+pub fn load_average() -> Option<[f64; 3]> {
+    let s = std::fs::read_to_string("/proc/loadavg").ok()?;
+    let mut it = s.split_whitespace().map(|v| v.parse::<f64>().ok());
+    Some([it.next()??, it.next()??, it.next()??])
+}
+
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split_once(':')).map(|(_, v)| v.trim().to_string()))
+        .unwrap_or_else(|| "unknown".into())
+}
+
+impl RunInfo {
+    /// Start recording: the command line, the machine and the current load average.
+    pub fn start(adapter: Option<String>) -> RunInfo {
+        RunInfo {
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+            cpu: cpu_model(),
+            cpu_threads: crate::cpu::threads(),
+            adapter,
+            load_average_start: load_average(),
+            load_average_end: None,
+            finished_unix_s: 0,
+        }
+    }
+}
+
+/// `report` with the extension `.json`.
+pub fn json_path(report: &Path) -> PathBuf {
+    report.with_extension("json")
+}
+
+/// Finish `info` (load average and time now) and write `{"run": info, "rows": rows}` beside the
+/// Markdown `report`; returns the JSON file's path. Non-finite figures (nothing measured) are
+/// written as `null`.
+pub fn write_json<R: Serialize>(report: &Path, mut info: RunInfo, rows: &[R]) -> Result<PathBuf> {
+    info.load_average_end = load_average();
+    info.finished_unix_s = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    #[derive(Serialize)]
+    struct Doc<'a, R> {
+        run: RunInfo,
+        rows: &'a [R],
+    }
+    let path = json_path(report);
+    let text = serde_json::to_string_pretty(&Doc { run: info, rows })?;
+    crate::io::write_file(&path, text + "\n")?;
+    Ok(path)
+}
