@@ -267,12 +267,12 @@ pub fn markdown(r: &KernelReport) -> String {
     let _ = writeln!(s, "Command: `{}`\n", r.command);
     let _ = writeln!(
         s,
-        "Machine: {} ({} threads), load average {} at the start, {} at the end; GPU backend: {}; {} rows per run, best of {} runs.\n",
+        "Machine: {} ({} threads), load average {} at the start, {} at the end; {}; {} rows per run, best of {} runs.\n",
         r.cpu,
         r.cpu_threads,
         r.load_average_start,
         r.load_average_end,
-        r.adapter.as_deref().unwrap_or("none"),
+        r.adapter.as_deref().unwrap_or("no GPU backend"),
         r.rows,
         r.repeats
     );

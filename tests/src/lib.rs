@@ -133,7 +133,6 @@ pub fn function(name: &str) -> &'static shader_kernels::eval::FunctionInfo {
 pub fn compare_table(gpu: &Backend, name: &str, inputs: &[f32]) -> Comparison {
     let f = function(name);
     let in_stride = f.inputs.len();
-    let out_stride = f.outputs.len();
     assert_eq!(inputs.len() % in_stride, 0, "inputs must be whole rows");
     let rows = inputs.len() / in_stride;
     let (cpu, _) = Backend::Cpu.eval_table(f, inputs, rows).unwrap();
