@@ -93,6 +93,7 @@ const REPORTS: &[(&str, &[&str])] = &[
             "docs/vndf-bench.md", "--plot", "docs/vndf-bench.png",
         ],
     ),
+    ("kernels", &["bench", "kernels", "--device", "gpu", "--rows", "1048576", "--repeats", "5", "--output", "docs/kernel-rates.md"]),
     ("energy", &["energy", "bench", "--device", "auto", "--report", "docs/energy-bench.md"]),
     ("furnace", &["energy", "furnace", "--device", "auto", "--spheres", "11", "--size", "64", "--samples", "256", "-o", "out/docs-reports/energy-furnace.exr"]),
     (
