@@ -1,15 +1,13 @@
-//! Host side of the shading library: backends (GPU through wgpu, native CPU), the table
-//! evaluator behind `host eval`, and file I/O.
+//! Host side of the shading library: the features (eval, grid, energy, ssr), benchmarks and the
+//! `host` CLI on top of the `runner` launchers, and file I/O.
 
-pub mod backend;
 pub mod cli_args;
-pub mod cpu;
-pub mod gpu;
-pub mod shaders;
-pub mod timing;
-
-pub use backend::{Backend, DeviceChoice};
-pub use timing::{Timing, TimingSource};
+// The launchers live in the `runner` crate (usable without the CLI's dependencies); re-exported
+// so the features here and the tests keep one path.
+pub use runner::{backend, cpu, gpu, shaders, timing};
+pub use runner::{Backend, DeviceChoice, Timing, TimingSource};
+// The f64 references live in the `reference` crate (no GPU dependencies).
+pub use reference::{energy as energy_ref, microfacet as microfacet_ref};
 pub mod eval;
 pub mod grid;
 pub mod io;
@@ -21,7 +19,5 @@ pub mod bench_kernels;
 pub mod bench_microfacet;
 pub mod bench_vndf;
 pub mod ggx_fp16;
-pub mod microfacet_ref;
 pub mod energy;
 pub mod energy_bench;
-pub mod energy_ref;

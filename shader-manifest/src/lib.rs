@@ -1,6 +1,6 @@
 //! The fingerprint of the shader sources and the manifest committed beside the SPIR-V.
 //!
-//! `cargo xtask build-shaders` writes `host/shaders/shader-kernels.json` with the hash of every file
+//! `cargo xtask build-shaders` writes `runner/shaders/shader-kernels.json` with the hash of every file
 //! that can change the SPIR-V (`shader-core` and `shader-kernels`: `Cargo.toml` and `src/**`). The
 //! host's build script hashes the same files; at run time the host refuses a manifest whose hash
 //! differs, so an edited kernel can never be silently compared against stale SPIR-V.
@@ -10,13 +10,13 @@ use std::path::{Path, PathBuf};
 /// Crates whose sources are compiled into the SPIR-V, relative to the workspace root.
 pub const SHADER_CRATES: [&str; 2] = ["shader-core", "shader-kernels"];
 /// Where the committed SPIR-V lives, relative to the workspace root.
-pub const SPV_PATH: &str = "host/shaders/shader-kernels.spv";
+pub const SPV_PATH: &str = "runner/shaders/shader-kernels.spv";
 /// Where the committed manifest lives, relative to the workspace root.
-pub const MANIFEST_PATH: &str = "host/shaders/shader-kernels.json";
+pub const MANIFEST_PATH: &str = "runner/shaders/shader-kernels.json";
 /// The second module (only the kernels needing subgroup operations; `subgroup-module` feature).
-pub const SUBGROUP_SPV_PATH: &str = "host/shaders/shader-kernels-subgroup.spv";
+pub const SUBGROUP_SPV_PATH: &str = "runner/shaders/shader-kernels-subgroup.spv";
 /// Its manifest.
-pub const SUBGROUP_MANIFEST_PATH: &str = "host/shaders/shader-kernels-subgroup.json";
+pub const SUBGROUP_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-subgroup.json";
 /// The command that rebuilds both.
 pub const REBUILD_COMMAND: &str = "cargo xtask build-shaders";
 

@@ -22,7 +22,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Compile `shader-kernels` to SPIR-V with rust-gpu and store it (with its manifest) under host/shaders/.
+    /// Compile `shader-kernels` to SPIR-V with rust-gpu and store it (with its manifest) under runner/shaders/.
     ///
     /// The first run on a machine installs the pinned nightly (rust-src, rustc-dev, llvm-tools) and
     /// builds the `rustc_codegen_spirv` backend into the user cache (~/.cache/rust-gpu); the

@@ -7,7 +7,8 @@ use shader_kernels::eval::{EvalArgs, FunctionInfo};
 use std::time::Instant;
 
 /// What the user asked for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum DeviceChoice {
     /// A hardware GPU (discrete, integrated or virtual Vulkan adapter) when there is one, else
     /// the native CPU backend; a software Vulkan adapter (lavapipe) only with `gpu`, because the

@@ -2,7 +2,7 @@
 
 use shader_manifest::{Manifest, MANIFEST_PATH, REBUILD_COMMAND, SPV_PATH};
 
-/// The SPIR-V module (little-endian words), as committed in `host/shaders/`.
+/// The SPIR-V module (little-endian words), as committed in `runner/shaders/`.
 pub const SPV_BYTES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/shader-kernels.spv"));
 /// Its manifest.
 pub const MANIFEST_JSON: &str = include_str!(concat!(env!("OUT_DIR"), "/shader-kernels.json"));

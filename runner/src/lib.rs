@@ -1,0 +1,26 @@
+//! The launchers of the shading kernels: the same per-invocation functions of `shader-kernels`
+//! run under a GPU launch (wgpu on Vulkan, the committed rust-gpu SPIR-V: [`gpu`]) or a CPU loop
+//! on all cores (rayon: [`cpu`]); [`Backend`] picks one (`--device auto|cpu|gpu`).
+//!
+//! No CLI, plotting or image crates: another program can depend on this crate alone to dispatch
+//! a kernel. With the `clap` feature, [`DeviceChoice`] is also a command-line value.
+//!
+//! ```no_run
+//! use runner::{Backend, DeviceChoice};
+//! // Evaluate GGX D on whichever backend is available, rows of (wm_x, wm_y, wm_z, alpha_x, alpha_y).
+//! let backend = Backend::select(DeviceChoice::Auto)?;
+//! let f = shader_kernels::eval::find("ggx_d").expect("registered");
+//! let rows = [0.0, 0.0, 1.0, 0.5, 0.5, 0.6, 0.0, 0.8, 0.3, 0.3];
+//! let (d, timing) = backend.eval_table(f, &rows, 2)?;
+//! println!("D = {d:?} in {:.3} ms ({})", timing.seconds * 1e3, timing.source);
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+
+pub mod backend;
+pub mod cpu;
+pub mod gpu;
+pub mod shaders;
+pub mod timing;
+
+pub use backend::{Backend, DeviceChoice};
+pub use timing::{Timing, TimingSource};
