@@ -198,8 +198,40 @@ impl GpuContext {
         )
     }
 
+    /// Load a SPIR-V module of the caller's own (e.g. built by their rust-gpu shader crate with
+    /// the post-processing of `cargo xtask build-shaders`) whose compute entry points `entries`
+    /// (workgroup size 64 in x) then dispatch like the built-in ones. Handed to the driver
+    /// unchanged where the adapter allows passthrough, else translated by naga.
+    pub fn add_spirv(&self, label: &str, words: &[u32], entries: &[&str]) -> Result<(), GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let m = if self.passthrough {
+            let eps: Vec<wgpu::PassthroughShaderEntryPoint> = entries
+                .iter()
+                .map(|e| wgpu::PassthroughShaderEntryPoint { name: Cow::Owned(e.to_string()), workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1) })
+                .collect();
+            // SAFETY: the caller vouches for the module (as for the built-in one: a valid
+            // SPIR-V compute module whose bindings are storage buffers in the order dispatched).
+            unsafe {
+                self.device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                    label: Some(label),
+                    entry_points: Cow::Owned(eps),
+                    spirv: Some(Cow::Borrowed(words)),
+                    ..Default::default()
+                })
+            }
+        } else {
+            self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::SpirV(Cow::Borrowed(words)) })
+        };
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(format!("{label}: {err}")));
+        }
+        self.extra_modules.lock().unwrap().push((m, entries.iter().map(|e| e.to_string()).collect()));
+        Ok(())
+    }
+
     /// Compile a WGSL module (naga) whose entry points `entries` then dispatch like the SPIR-V
-    /// ones. For speed references only: naga's translation is not bit-exact with the kernels.
+    /// ones: a caller's own kernels, or the benches' speed references. naga's translation is not
+    /// bit-exact with the project's kernels (no NoContraction, the driver's own sqrt/division).
     pub fn add_wgsl(&self, label: &str, source: &str, entries: &[&str]) -> Result<(), GpuError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let m = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
