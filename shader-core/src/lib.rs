@@ -10,6 +10,7 @@ pub mod bxdf;
 pub mod complex;
 pub mod energy;
 pub mod fresnel;
+pub mod ieee;
 pub mod masking;
 pub mod math;
 pub mod ndf;
