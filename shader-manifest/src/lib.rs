@@ -290,6 +290,93 @@ pub fn no_contraction_coverage(words: &[u32]) -> Result<(usize, usize), String> 
     Ok((total, covered))
 }
 
+const OP_EXT_INST_IMPORT: u32 = 11;
+const OP_EXT_INST: u32 = 12;
+
+/// GLSL.std.450 instruction names, indexed by instruction number (1..=81).
+const GLSL_STD_450_NAMES: [&str; 82] = [
+    "?", "Round", "RoundEven", "Trunc", "FAbs", "SAbs", "FSign", "SSign", "Floor", "Ceil", "Fract",
+    "Radians", "Degrees", "Sin", "Cos", "Tan", "Asin", "Acos", "Atan", "Sinh", "Cosh", "Tanh",
+    "Asinh", "Acosh", "Atanh", "Atan2", "Pow", "Exp", "Log", "Exp2", "Log2", "Sqrt", "InverseSqrt",
+    "Determinant", "MatrixInverse", "Modf", "ModfStruct", "FMin", "UMin", "SMin", "FMax", "UMax",
+    "SMax", "FClamp", "UClamp", "SClamp", "FMix", "IMix", "Step", "SmoothStep", "Fma", "Frexp",
+    "FrexpStruct", "Ldexp", "PackSnorm4x8", "PackUnorm4x8", "PackSnorm2x16", "PackUnorm2x16",
+    "PackHalf2x16", "PackDouble2x32", "UnpackSnorm2x16", "UnpackUnorm2x16", "UnpackHalf2x16",
+    "UnpackSnorm4x8", "UnpackUnorm4x8", "UnpackDouble2x32", "Length", "Distance", "Cross",
+    "Normalize", "FaceForward", "Reflect", "Refract", "FindILsb", "FindSMsb", "FindUMsb",
+    "InterpolateAtCentroid", "InterpolateAtSample", "InterpolateAtOffset", "NMin", "NMax", "NClamp",
+];
+
+/// GLSL.std.450 instructions whose result the Vulkan spec fixes exactly: the table "Precision
+/// and Operation of SPIR-V Instructions" (Vulkan 1.3, chapter "Floating-Point Computation")
+/// lists them as exact or correctly rounded (rounding/truncation to integers, abs, sign, min, max,
+/// clamp, step, frexp, ldexp, modf and fract = x - floor(x) inherited from OpFSub), plus the
+/// integer-only ones (SAbs, SSign, U/S min/max/clamp, FindILsb/FindSMsb/FindUMsb).
+/// Everything else in the set (Sqrt, InverseSqrt, Fma, FMix, the transcendentals, Length,
+/// Normalize, Refract, ...) may be approximate, fused or evaluated in an unspecified order.
+pub const EXACT_GLSL_STD_450: [u32; 30] = [
+    1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 48, 51, 52, 53, 73, 74,
+    75, 79, 80,
+];
+
+/// Core SPIR-V float instructions that the same Vulkan table does not require correctly rounded:
+/// OpFDiv (2.5 ULP), OpFRem and OpFMod (inherited from the division), and the compound products
+/// whose summation order and contraction are unspecified (OpVectorTimesMatrix,
+/// OpMatrixTimesVector, OpMatrixTimesMatrix, OpOuterProduct, OpDot). Required correctly rounded
+/// (and therefore allowed): OpFAdd, OpFSub, OpFMul, OpFNegate, OpVectorTimesScalar,
+/// OpMatrixTimesScalar, the conversions, comparisons and bit casts.
+pub const INEXACT_CORE_FLOAT_OPCODES: [(u32, &str); 8] = [
+    (136, "OpFDiv"),
+    (140, "OpFRem"),
+    (141, "OpFMod"),
+    (144, "OpVectorTimesMatrix"),
+    (145, "OpMatrixTimesVector"),
+    (146, "OpMatrixTimesMatrix"),
+    (147, "OpOuterProduct"),
+    (148, "OpDot"),
+];
+
+/// Every instruction of the module whose float result a conformant Vulkan driver may compute
+/// inexactly (see [`INEXACT_CORE_FLOAT_OPCODES`], [`EXACT_GLSL_STD_450`]; any other extended
+/// instruction set except `NonSemantic.*` counts as inexact), as (name, count) sorted by name.
+/// Empty for a module whose float arithmetic is bit-exact on every conformant device.
+pub fn inexact_float_instructions(words: &[u32]) -> Result<Vec<(String, usize)>, String> {
+    let insts = instructions(words)?;
+    let mut sets = std::collections::HashMap::new();
+    for (op, r) in &insts {
+        if *op == OP_EXT_INST_IMPORT && r.len() >= 3 {
+            sets.insert(words[r.start + 1], spirv_string(&words[r.start + 2..r.end]));
+        }
+    }
+    let mut counts = std::collections::BTreeMap::<String, usize>::new();
+    for (op, r) in &insts {
+        if let Some((_, name)) = INEXACT_CORE_FLOAT_OPCODES.iter().find(|(o, _)| o == op) {
+            *counts.entry((*name).to_string()).or_default() += 1;
+        } else if *op == OP_EXT_INST && r.len() >= 5 {
+            let (set, inst) = (words[r.start + 3], words[r.start + 4]);
+            let set_name = sets.get(&set).map_or("?", |s| s.as_str());
+            let name = if set_name == "GLSL.std.450" {
+                if EXACT_GLSL_STD_450.contains(&inst) {
+                    continue;
+                }
+                format!("GLSL.std.450 {}", GLSL_STD_450_NAMES.get(inst as usize).unwrap_or(&"?"))
+            } else if set_name.starts_with("NonSemantic.") {
+                continue;
+            } else {
+                format!("{set_name} #{inst}")
+            };
+            *counts.entry(name).or_default() += 1;
+        }
+    }
+    Ok(counts.into_iter().collect())
+}
+
+/// A nul-terminated SPIR-V literal string.
+fn spirv_string(words: &[u32]) -> String {
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
 /// Little-endian bytes to SPIR-V words.
 pub fn spirv_words(bytes: &[u8]) -> Vec<u32> {
     bytes.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()
@@ -317,5 +404,25 @@ mod spirv_tests {
         assert_eq!(&out[8..14], &[(3 << 16) | 71, 3, 42, (3 << 16) | 71, 6, 42]);
         assert_eq!(decorate_no_contraction(&out).unwrap(), out, "idempotent");
         assert!(decorate_no_contraction(&[1, 2, 3]).is_err());
+    }
+
+    #[test]
+    fn lists_inexact_float_instructions_with_counts() {
+        // "GLSL.std.450" as a nul-terminated literal (12 chars + nul = 4 words).
+        let glsl = [u32::from_le_bytes(*b"GLSL"), u32::from_le_bytes(*b".std"), u32::from_le_bytes(*b".450"), 0];
+        let mut words = vec![0x0723_0203, 0x0001_0500, 0, 20, 0, (6 << 16) | 11, 1];
+        words.extend_from_slice(&glsl);
+        words.extend_from_slice(&[
+            (3 << 16) | 22, 2, 32,
+            (5 << 16) | 129, 2, 3, 4, 5, // OpFAdd: fine
+            (5 << 16) | 136, 2, 6, 3, 3, // OpFDiv
+            (5 << 16) | 136, 2, 7, 3, 3, // OpFDiv
+            (6 << 16) | 12, 2, 8, 1, 31, 3, // Sqrt
+            (6 << 16) | 12, 2, 9, 1, 4, 3, // FAbs: fine
+            (6 << 16) | 12, 2, 10, 1, 75, 3, // FindUMsb: fine
+        ]);
+        let got = inexact_float_instructions(&words).unwrap();
+        assert_eq!(got, vec![("GLSL.std.450 Sqrt".to_string(), 1), ("OpFDiv".to_string(), 2)]);
+        assert!(inexact_float_instructions(&[1, 2]).is_err());
     }
 }
