@@ -228,6 +228,42 @@ const MODE_SIGNED_ZERO_INF_NAN_PRESERVE: u32 = 4461;
 /// entry point, so the driver may not fold away the sign of zero or assume no NaN/Inf (e.g.
 /// rewrite `0 * x` or `x + 0`), as the CPU's IEEE arithmetic does not. Idempotent.
 pub fn preserve_signed_zero_inf_nan(words: &[u32]) -> Result<Vec<u32>, String> {
+    declare_fp32_mode(words, CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE, MODE_SIGNED_ZERO_INF_NAN_PRESERVE)
+}
+
+const CAPABILITY_DENORM_PRESERVE: u32 = 4464;
+const CAPABILITY_DENORM_FLUSH_TO_ZERO: u32 = 4465;
+const MODE_DENORM_PRESERVE: u32 = 4459;
+const MODE_DENORM_FLUSH_TO_ZERO: u32 = 4460;
+
+/// The 32-bit denormal mode a module declares (SPIR-V 1.4 float controls).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DenormMode {
+    /// `DenormPreserve`: denormal operands and results kept (as on the CPU).
+    Preserve,
+    /// `DenormFlushToZero`: denormal operands and results flushed to zero.
+    FlushToZero,
+}
+
+/// Declare `mode` for 32-bit floats on every entry point, with its capability. The host does
+/// this at module-load time where the device supports the mode (`host::float_controls`); the
+/// committed module declares neither. Idempotent; a module declaring the other mode is refused.
+pub fn declare_denorm_mode(words: &[u32], mode: DenormMode) -> Result<Vec<u32>, String> {
+    let (cap, m, other) = match mode {
+        DenormMode::Preserve => (CAPABILITY_DENORM_PRESERVE, MODE_DENORM_PRESERVE, MODE_DENORM_FLUSH_TO_ZERO),
+        DenormMode::FlushToZero => (CAPABILITY_DENORM_FLUSH_TO_ZERO, MODE_DENORM_FLUSH_TO_ZERO, MODE_DENORM_PRESERVE),
+    };
+    for (op, r) in instructions(words)? {
+        if op == OP_EXECUTION_MODE && r.len() >= 4 && words[r.start + 2] == other && words[r.start + 3] == 32 {
+            return Err(format!("SPIR-V module already declares the other denormal mode than {mode:?}"));
+        }
+    }
+    declare_fp32_mode(words, cap, m)
+}
+
+/// Add `OpCapability cap` (once) and `OpExecutionMode %entry mode 32` to every entry point that
+/// lacks it. Idempotent.
+fn declare_fp32_mode(words: &[u32], capability: u32, mode: u32) -> Result<Vec<u32>, String> {
     let insts = instructions(words)?;
     let mut last_capability = None;
     let mut has_capability = false;
@@ -238,14 +274,14 @@ pub fn preserve_signed_zero_inf_nan(words: &[u32]) -> Result<Vec<u32>, String> {
         match *op {
             OP_CAPABILITY => {
                 last_capability = Some(r.end);
-                has_capability |= words[r.start + 1] == CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE;
+                has_capability |= words[r.start + 1] == capability;
             }
             OP_ENTRY_POINT => {
                 entry_ids.push(words[r.start + 2]);
                 mode_at = Some(r.end);
             }
             OP_EXECUTION_MODE => {
-                if words[r.start + 2] == MODE_SIGNED_ZERO_INF_NAN_PRESERVE {
+                if words[r.start + 2] == mode {
                     has_mode.insert(words[r.start + 1]);
                 }
                 mode_at = Some(r.end);
@@ -258,12 +294,12 @@ pub fn preserve_signed_zero_inf_nan(words: &[u32]) -> Result<Vec<u32>, String> {
     let mut out = Vec::with_capacity(words.len() + 2 + 4 * entry_ids.len());
     out.extend_from_slice(&words[..cap_at]);
     if !has_capability {
-        out.extend_from_slice(&[(2 << 16) | OP_CAPABILITY, CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE]);
+        out.extend_from_slice(&[(2 << 16) | OP_CAPABILITY, capability]);
     }
     out.extend_from_slice(&words[cap_at..mode_at]);
     for id in entry_ids {
         if has_mode.insert(id) {
-            out.extend_from_slice(&[(4 << 16) | OP_EXECUTION_MODE, id, MODE_SIGNED_ZERO_INF_NAN_PRESERVE, 32]);
+            out.extend_from_slice(&[(4 << 16) | OP_EXECUTION_MODE, id, mode, 32]);
         }
     }
     out.extend_from_slice(&words[mode_at..]);
@@ -404,6 +440,24 @@ mod spirv_tests {
         assert_eq!(&out[8..14], &[(3 << 16) | 71, 3, 42, (3 << 16) | 71, 6, 42]);
         assert_eq!(decorate_no_contraction(&out).unwrap(), out, "idempotent");
         assert!(decorate_no_contraction(&[1, 2, 3]).is_err());
+    }
+
+    #[test]
+    fn declares_denorm_mode_on_every_entry_point() {
+        // header, OpCapability Shader, OpEntryPoint GLCompute %5 "a", OpEntryPoint GLCompute %6 "b"
+        let words = vec![
+            0x0723_0203, 0x0001_0500, 0, 10, 0,
+            (2 << 16) | 17, 1,
+            (4 << 16) | 15, 5, 5, u32::from_le_bytes(*b"a\0\0\0"),
+            (4 << 16) | 15, 5, 6, u32::from_le_bytes(*b"b\0\0\0"),
+        ];
+        let out = declare_denorm_mode(&words, DenormMode::Preserve).unwrap();
+        assert_eq!(&out[5..9], &[(2 << 16) | 17, 1, (2 << 16) | 17, 4464]);
+        assert_eq!(&out[out.len() - 8..], &[(4 << 16) | 16, 5, 4459, 32, (4 << 16) | 16, 6, 4459, 32]);
+        assert_eq!(declare_denorm_mode(&out, DenormMode::Preserve).unwrap(), out, "idempotent");
+        assert!(declare_denorm_mode(&out, DenormMode::FlushToZero).is_err());
+        let ftz = declare_denorm_mode(&words, DenormMode::FlushToZero).unwrap();
+        assert!(ftz.windows(4).any(|w| w == [(4 << 16) | 16, 5, 4460, 32]));
     }
 
     #[test]
