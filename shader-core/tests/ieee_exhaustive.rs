@@ -16,10 +16,14 @@ fn threads() -> u64 {
 }
 
 /// Run `f(start, end)` over [0, n) split into chunks across all cores; sums the returned counts.
+/// Prints progress (items done, failures so far) about every 5% when n > 2^32.
 fn parallel(n: u64, f: impl Fn(u64, u64) -> u64 + Sync) -> u64 {
     let chunk = 1u64 << 22;
     let next = AtomicU64::new(0);
     let total = AtomicU64::new(0);
+    let done = AtomicU64::new(0);
+    let t0 = std::time::Instant::now();
+    let step = if n > 1u64 << 32 { n / 20 } else { u64::MAX };
     std::thread::scope(|s| {
         for _ in 0..threads() {
             s.spawn(|| loop {
@@ -27,8 +31,13 @@ fn parallel(n: u64, f: impl Fn(u64, u64) -> u64 + Sync) -> u64 {
                 if start >= n {
                     break;
                 }
-                let c = f(start, (start + chunk).min(n));
-                total.fetch_add(c, Ordering::Relaxed);
+                let end = (start + chunk).min(n);
+                let c = f(start, end);
+                let bad = total.fetch_add(c, Ordering::Relaxed) + c;
+                let d = done.fetch_add(end - start, Ordering::Relaxed);
+                if (d + end - start) / step != d / step {
+                    eprintln!("  {} of {n} done, {bad} differing, {:.0} s", d + end - start, t0.elapsed().as_secs_f64());
+                }
             });
         }
     });
@@ -195,4 +204,32 @@ fn pair_classes_cover_the_structured_cases() {
         exact += (fa.is_finite() && fb != 0.0 && (fa / fb) * fb == fa) as u32;
     }
     assert!(den > 1000 && zero_inf_nan > 500 && exact > 1000, "{den} {zero_inf_nan} {exact}");
+}
+
+/// ns per operation, software vs native, one thread over 2^22 normal operands (throughput: the
+/// loop is independent per element). Run with
+/// `cargo test --release -p shader-core --test ieee_exhaustive -- --ignored ns_per_op --nocapture`.
+#[test]
+#[ignore = "timing, not a check"]
+fn ns_per_op() {
+    let n = 1usize << 22;
+    let xs: Vec<f32> = (0..n as u64).map(|i| f32::from_bits(0x3000_0000 + (mix(i) as u32 % 0x1f00_0000))).collect();
+    let ys: Vec<f32> = (0..n as u64).map(|i| f32::from_bits(0x3000_0000 + (mix(i + n as u64) as u32 % 0x1f00_0000))).collect();
+    let mut out = vec![0f32; n];
+    let mut time = |name: &str, f: &dyn Fn(f32, f32) -> f32| {
+        let mut best = f64::MAX;
+        for _ in 0..5 {
+            let t = std::time::Instant::now();
+            for i in 0..n {
+                out[i] = f(xs[i], ys[i]);
+            }
+            black_box(&out);
+            best = best.min(t.elapsed().as_secs_f64() * 1e9 / n as f64);
+        }
+        eprintln!("{name:>12}: {best:.2} ns/op");
+    };
+    time("native /", &|a, b| a / b);
+    time("ieee::div", &|a, b| div(a, b));
+    time("native sqrt", &|a, _| a.sqrt());
+    time("ieee::sqrt", &|a, _| sqrt(a));
 }
