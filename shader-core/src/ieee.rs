@@ -2,7 +2,9 @@
 //!
 //! Vulkan lets `OpFDiv` be off by 2.5 ULP and GLSL.std.450 `Sqrt`/`InverseSqrt` be approximate, so
 //! every division and square root in `shader-core` and `shader-kernels` goes through [`div`] and
-//! [`sqrt`] here. They use only `f32` add/sub/mul (exact under round-to-nearest, no contraction:
+//! [`sqrt`] here. In the SPIR-V build they run the software routines [`div_soft`] and
+//! [`sqrt_soft`]; on the CPU they are the native `divss`/`sqrtss`, which give the same bits (the
+//! proof below), only faster ([`EXACT`], [`SOFT_ON_CPU`]). The software routines use only `f32` add/sub/mul (exact under round-to-nearest, no contraction:
 //! the shader build decorates them `NoContraction`), comparisons, bit casts, 32-bit integer
 //! arithmetic and `i32`/`u32` casts: no `OpFDiv`, no square-root instruction, no FMA, no 64-bit
 //! integers.
@@ -19,14 +21,23 @@
 //! an invalid operation (0/0, inf/inf, sqrt of a negative number) gives the default NaN
 //! `0xffc0_0000`, and signed zeros and infinities follow IEEE 754.
 //!
-//! Proof: `shader-core/tests/ieee_exhaustive.rs` compares [`sqrt`] with the native square root on all
-//! 2^32 bit patterns and [`div`] with the native `/` on structured and random pairs
+//! Proof: `shader-core/tests/ieee_exhaustive.rs` compares [`sqrt_soft`] with the native square
+//! root on all 2^32 bit patterns and [`div_soft`] with the native `/` on structured and random pairs
 //! (docs/exactness.md).
 
-/// `true`: [`div`] and [`sqrt`] are the software routines here (bit-exact on any conformant
-/// Vulkan device). `false`: they are the native `/` and `sqrt` (exact on the CPU and lavapipe,
-/// approximate on other GPUs); only for measuring the cost (docs/exactness.md).
+/// `true`: in the SPIR-V build [`div`] and [`sqrt`] are the software routines [`div_soft`] and
+/// [`sqrt_soft`] (bit-exact on any conformant Vulkan device). `false`: they are `OpFDiv` and
+/// GLSL.std.450 `Sqrt` (exact on lavapipe, approximate on other GPUs); only for measuring the
+/// cost (docs/exactness.md).
 pub const EXACT: bool = true;
+
+/// `true`: the CPU build runs the software routines too. Off by default: x86-64 `divss` and
+/// `sqrtss` give the same bits (proven in `shader-core/tests/ieee_exhaustive.rs`) 6-7 times
+/// faster in the kernels (docs/exactness.md); turning it on changes no result.
+pub const SOFT_ON_CPU: bool = false;
+
+/// Whether [`div`] and [`sqrt`] take the software path in this build.
+pub const SOFT: bool = EXACT && (cfg!(target_arch = "spirv") || SOFT_ON_CPU);
 
 const SIGN_MASK: u32 = 0x8000_0000;
 const ABS_MASK: u32 = 0x7fff_ffff;
@@ -119,12 +130,23 @@ fn scale_rounded(q: f32, dir: i32, k: i32) -> f32 {
 }
 
 /// a / b correctly rounded (round to nearest, ties to even), denormals and signed zeros
-/// included; NaN rules as x86 `divss` (see the module documentation).
+/// included; NaN rules as x86 `divss`: [`div_soft`] where [`SOFT`], else the native `/`.
 #[inline]
 pub fn div(a: f32, b: f32) -> f32 {
-    if !EXACT {
-        return a / b;
-    }
+    if SOFT { div_soft(a, b) } else { a / b }
+}
+
+/// sqrt(x) correctly rounded (round to nearest even): sqrt(-0) = -0, sqrt(inf) = inf, x < 0
+/// gives the default NaN, a NaN is returned quieted (x86 `sqrtss`): [`sqrt_soft`] where
+/// [`SOFT`], else the native square root.
+#[inline]
+pub fn sqrt(x: f32) -> f32 {
+    if SOFT { sqrt_soft(x) } else { native_sqrt(x) }
+}
+
+/// [`div`] by the software routine, on every target.
+#[inline]
+pub fn div_soft(a: f32, b: f32) -> f32 {
     let (ua, ub) = (a.to_bits(), b.to_bits());
     let sign = (ua ^ ub) & SIGN_MASK;
     let (aa, ab) = (ua & ABS_MASK, ub & ABS_MASK);
@@ -179,13 +201,9 @@ pub fn div(a: f32, b: f32) -> f32 {
     f32::from_bits(m.to_bits() | sign)
 }
 
-/// sqrt(x) correctly rounded (round to nearest even): sqrt(-0) = -0, sqrt(inf) = inf, x < 0
-/// gives the default NaN, a NaN is returned quieted (x86 `sqrtss`).
+/// [`sqrt`] by the software routine, on every target.
 #[inline]
-pub fn sqrt(x: f32) -> f32 {
-    if !EXACT {
-        return native_sqrt(x);
-    }
+pub fn sqrt_soft(x: f32) -> f32 {
     let ux = x.to_bits();
     let ax = ux & ABS_MASK;
     if ax == 0 || ux >= INF_BITS {
@@ -240,7 +258,7 @@ pub fn rsqrt(x: f32) -> f32 {
     div(1.0, sqrt(x))
 }
 
-/// The platform square root (correctly rounded on the CPU; the `EXACT = false` path).
+/// The platform square root (`sqrtss` on the CPU, GLSL.std.450 `Sqrt` in SPIR-V).
 #[inline]
 fn native_sqrt(x: f32) -> f32 {
     use spirv_std::num_traits::Float;
@@ -258,7 +276,7 @@ mod tests {
     }
 
     fn check_div(a: f32, b: f32) {
-        let (g, w) = (div(a, b), native_div(a, b));
+        let (g, w) = (div_soft(a, b), native_div(a, b));
         assert_eq!(g.to_bits(), w.to_bits(), "{a:e} ({:#x}) / {b:e} ({:#x}): got {g:e} want {w:e}", a.to_bits(), b.to_bits());
     }
 
@@ -280,6 +298,7 @@ mod tests {
     fn sqrt_special_values() {
         for bits in [0u32, 0x8000_0000, 0x7f80_0000, 0xff80_0000, 0x7fc0_0000, 0xffc0_0000, 0x7f80_0001, 0xff80_0001, 1, 0x8000_0001, 0xbf80_0000, 0x3f80_0000, 0x7f7f_ffff] {
             let x = f32::from_bits(bits);
+            assert_eq!(sqrt_soft(x).to_bits(), black_box(x).sqrt().to_bits(), "{bits:#x}");
             assert_eq!(sqrt(x).to_bits(), black_box(x).sqrt().to_bits(), "{bits:#x}");
         }
     }

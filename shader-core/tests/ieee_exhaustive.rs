@@ -1,4 +1,5 @@
-//! Proof on the CPU that `shader_core::ieee::{sqrt, div}` are correctly rounded: they must give
+//! Proof on the CPU that `shader_core::ieee::{sqrt_soft, div_soft}` (what `sqrt`/`div` run in
+//! the SPIR-V build) are correctly rounded: they must give
 //! the bits of the native x86-64 `sqrtss` / `divss` (correctly rounded, NaN rules included).
 //!
 //! * `sqrt_all_bit_patterns`: every one of the 2^32 inputs (default run).
@@ -7,7 +8,7 @@
 //!   `cargo test --release -p shader-core --test ieee_exhaustive -- --ignored div_exhaustive`
 //!   (`IEEE_DIV_PAIRS=<n>` changes the count; docs/exactness.md has the last result).
 
-use shader_core::ieee::{div, sqrt};
+use shader_core::ieee::{div_soft as div, sqrt_soft as sqrt};
 use std::hint::black_box;
 use std::sync::atomic::{AtomicU64, Ordering};
 
