@@ -200,6 +200,7 @@ fn info(device: DeviceChoice) -> Result<()> {
     for a in &adapters {
         let i = a.get_info();
         println!("  {} ({:?}, driver {} {})", i.name, i.device_type, i.driver, i.driver_info);
+        println!("    {}", host::float_controls::describe_adapter(a));
     }
     match host::shaders::load() {
         Ok(m) => println!(

@@ -85,3 +85,22 @@ fn committed_spirv_forbids_contraction_and_keeps_signed_zeros() {
         "SignedZeroInfNanPreserve missing: rerun `cargo xtask build-shaders`"
     );
 }
+
+/// Vulkan requires only add/sub/mul, conversions and a few exact GLSL.std.450 instructions to be
+/// correctly rounded ("Precision and Operation of SPIR-V Instructions"); division, square root,
+/// FMA and transcendentals may differ between conformant drivers. `shader_core::ieee` replaces
+/// them, so the committed modules must contain none.
+#[test]
+fn committed_spirv_uses_only_correctly_rounded_float_instructions() {
+    for (name, bytes) in [("shader-kernels.spv", SPV_BYTES), ("shader-kernels-subgroup.spv", SUBGROUP_SPV_BYTES)] {
+        let words = shader_manifest::spirv_words(bytes);
+        let bad = shader_manifest::inexact_float_instructions(&words).unwrap();
+        let list: Vec<String> = bad.iter().map(|(n, c)| format!("{n} x{c}")).collect();
+        assert!(
+            bad.is_empty(),
+            "{name} holds float instructions Vulkan does not require correctly rounded: {}; use \
+             shader_core::ieee::{{div, sqrt}} and rerun `cargo xtask build-shaders`",
+            list.join(", ")
+        );
+    }
+}

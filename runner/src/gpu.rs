@@ -38,6 +38,8 @@ pub struct GpuContext {
     pub passthrough: bool,
     pub timestamps: bool,
     pub limits: wgpu::Limits,
+    /// fp32 denormal mode declared in the loaded SPIR-V (crate::float_controls).
+    pub denorm_policy: crate::float_controls::DenormPolicy,
     module: wgpu::ShaderModule,
     /// The main module's entry points (from its manifest).
     entry_points: Vec<String>,
@@ -82,6 +84,9 @@ impl GpuContext {
         adapters.sort_by_key(|a| adapter_rank(a.get_info().device_type));
         let adapter = adapters.remove(0);
         let info = adapter.get_info();
+        let denorm_policy = crate::float_controls::DenormPolicy::for_adapter(&adapter);
+        let words = denorm_policy.apply(&shader.words).map_err(GpuError::Shader)?;
+        denorm_policy.apply_to_cpu();
         let features = adapter.features();
         let passthrough = features.contains(wgpu::Features::PASSTHROUGH_SHADERS)
             && std::env::var_os("HOST_NO_PASSTHROUGH").is_none();
@@ -130,14 +135,14 @@ impl GpuContext {
                 device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
                     label: Some("shader-kernels"),
                     entry_points: Cow::Owned(entry_points),
-                    spirv: Some(Cow::Borrowed(&shader.words)),
+                    spirv: Some(Cow::Borrowed(&words)),
                     ..Default::default()
                 })
             }
         } else {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("shader-kernels"),
-                source: wgpu::ShaderSource::SpirV(Cow::Borrowed(&shader.words)),
+                source: wgpu::ShaderSource::SpirV(Cow::Borrowed(&words)),
             })
         };
         if let Some(err) = pollster::block_on(scope.pop()) {
@@ -145,6 +150,7 @@ impl GpuContext {
         }
         let subgroup_module = if subgroups {
             let sg = crate::shaders::load_subgroup().map_err(GpuError::Shader)?;
+            let sg_words = denorm_policy.apply(&sg.words).map_err(GpuError::Shader)?;
             let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
             let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = sg
                 .manifest
@@ -157,7 +163,7 @@ impl GpuContext {
                 device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
                     label: Some("shader-kernels-subgroup"),
                     entry_points: Cow::Owned(entry_points),
-                    spirv: Some(Cow::Borrowed(&sg.words)),
+                    spirv: Some(Cow::Borrowed(&sg_words)),
                     ..Default::default()
                 })
             };
@@ -175,6 +181,7 @@ impl GpuContext {
             passthrough,
             timestamps,
             limits,
+            denorm_policy,
             module,
             entry_points: shader.manifest.entry_points.clone(),
             subgroup_module,
@@ -187,14 +194,15 @@ impl GpuContext {
     /// One line naming the adapter, driver and how shaders and timings are handled.
     pub fn describe(&self) -> String {
         format!(
-            "{} ({:?}, driver {} {}); SPIR-V {}{}; timings from {}",
+            "{} ({:?}, driver {} {}); SPIR-V {}{}; timings from {}; {}",
             self.info.name,
             self.info.device_type,
             self.info.driver,
             self.info.driver_info,
             if self.passthrough { "passed through unchanged" } else { "translated by naga" },
             if self.subgroup_module.is_some() { ", subgroup kernels loaded" } else { ", no subgroup kernels" },
-            if self.timestamps { "timestamp queries" } else { "wall clock" }
+            if self.timestamps { "timestamp queries" } else { "wall clock" },
+            self.denorm_policy.describe()
         )
     }
 

@@ -18,6 +18,7 @@
 
 pub mod backend;
 pub mod cpu;
+pub mod float_controls;
 pub mod gpu;
 pub mod shaders;
 pub mod timing;

@@ -5,8 +5,8 @@
 //! of c^2 + d^2); `abs` is a scaled hypot (no overflow or underflow of the squares); `sqrt` is the
 //! principal branch (re >= 0), as PBRT's `pstd::sqrt`.
 
+use crate::ieee;
 use core::ops::{Add, Div, Mul, Neg, Sub};
-use spirv_std::num_traits::Float;
 
 /// `re + i im`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -50,8 +50,8 @@ impl Complex {
         if n == 0.0 {
             return Complex::real(0.0);
         }
-        let t1 = Float::sqrt(0.5 * (n + self.re.abs()));
-        let t2 = 0.5 * self.im / t1;
+        let t1 = ieee::sqrt(0.5 * (n + self.re.abs()));
+        let t2 = ieee::div(0.5 * self.im, t1);
         if self.re >= 0.0 {
             Complex::new(t1, t2)
         } else if self.im.is_sign_negative() {
@@ -81,8 +81,8 @@ pub fn hypot(a: f32, b: f32) -> f32 {
         // (0, 0) -> 0; (0, NaN) or (NaN, 0) -> NaN.
         return n + m;
     }
-    let r = n / m;
-    m * Float::sqrt(1.0 + r * r)
+    let r = ieee::div(n, m);
+    m * ieee::sqrt(1.0 + r * r)
 }
 
 impl Add for Complex {
@@ -126,13 +126,13 @@ impl Div for Complex {
     fn div(self, o: Complex) -> Complex {
         let (a, b, c, d) = (self.re, self.im, o.re, o.im);
         if c.abs() >= d.abs() {
-            let r = d / c;
+            let r = ieee::div(d, c);
             let den = c + d * r;
-            Complex::new((a + b * r) / den, (b - a * r) / den)
+            Complex::new(ieee::div(a + b * r, den), ieee::div(b - a * r, den))
         } else {
-            let r = c / d;
+            let r = ieee::div(c, d);
             let den = c * r + d;
-            Complex::new((a * r + b) / den, (b * r - a) / den)
+            Complex::new(ieee::div(a * r + b, den), ieee::div(b * r - a, den))
         }
     }
 }

@@ -18,6 +18,7 @@
 //! mu or roughness, alpha < 0) gives NaN; mu outside (0, 1] and r outside [0, 1] are clamped by the
 //! lookups to the edge cells.
 
+use crate::ieee;
 use crate::fresnel;
 use crate::masking;
 use crate::rng::{self, Pcg32};
@@ -25,7 +26,6 @@ use crate::vector::Vec3;
 use crate::vndf;
 use crate::warp;
 use core::f32::consts::PI;
-use spirv_std::num_traits::Float;
 
 /// Random numbers from PCG32 (O'Neill 2014), one generator per (cell, sample index).
 pub const SEQ_PCG: u32 = 0;
@@ -57,7 +57,7 @@ pub const LUT_HEADER: usize = 4;
 /// Cell center (i + 0.5) / n of cell i of n (exact for n, i < 2^24).
 #[inline]
 pub fn cell_center(i: u32, n: u32) -> f32 {
-    (i as f32 + 0.5) / n as f32
+    ieee::div(i as f32 + 0.5, n as f32)
 }
 
 /// mu of column i of an n-column table: the cell center, clamped to >= [`MU_MIN`].
@@ -75,7 +75,7 @@ pub fn table_mu(i: u32, n: u32) -> f32 {
 #[inline]
 pub fn wo_from_mu(mu: f32) -> Vec3 {
     let s2 = 1.0 - mu * mu;
-    Vec3::new(if s2 > 0.0 { Float::sqrt(s2) } else { 0.0 }, 0.0, mu)
+    Vec3::new(if s2 > 0.0 { ieee::sqrt(s2) } else { 0.0 }, 0.0, mu)
 }
 
 /// One-sample estimate of (E, E') for GGX with F = 1 (Heitz 2018 VNDF sampling: the weight
@@ -95,7 +95,7 @@ pub fn ggx_albedo_sample(wo: Vec3, alpha: f32, u0: f32, u1: f32) -> (f32, f32) {
     }
     let g1 = masking::ggx_g1(wo, alpha, alpha);
     let g2 = masking::ggx_g2_height_correlated(wo, wi, alpha, alpha);
-    let w = g2 / g1;
+    let w = ieee::div(g2, g1);
     (w, w * fresnel::schlick_weight(vh))
 }
 
@@ -221,7 +221,7 @@ pub fn albedo_avg_sums(j: u32, n_r: u32, start: u32, count: u32, seq: u32, seed:
     let mut k = 0;
     while k < count {
         let (um, u0, u1) = sample_3d(seq, seed ^ AVG_SEED_XOR, j, start + k);
-        let mu = Float::sqrt(um);
+        let mu = ieee::sqrt(um);
         let mu = if mu < MU_MIN { MU_MIN } else { mu };
         let (a, _) = ggx_albedo_sample(wo_from_mu(mu), alpha, u0, u1);
         e.add(a);
@@ -302,7 +302,7 @@ pub fn lut_e_avg(lut: &[f32], r: f32) -> f32 {
 /// 2017; Filament 4.7.2: 2 int (1 - mu)^5 mu dmu = 1/21).
 #[inline]
 pub fn schlick_f_avg(f0: f32, f90: f32) -> f32 {
-    f0 + (f90 - f0) * (1.0 / 21.0)
+    f0 + (f90 - f0) * (ieee::div(1.0, 21.0))
 }
 
 /// Kulla & Conty 2017 multiple-scattering BRDF with the F_avg term of their appendix (Filament
@@ -314,7 +314,7 @@ pub fn kulla_conty_f_ms(e_o: f32, e_i: f32, e_avg: f32, f_avg: f32) -> f32 {
     if !(loss > 0.0) {
         return if loss.is_nan() { f32::NAN } else { 0.0 };
     }
-    (1.0 - e_o) * (1.0 - e_i) * (f_avg * f_avg * e_avg) / (PI * loss * (1.0 - f_avg * loss))
+    ieee::div((1.0 - e_o) * (1.0 - e_i) * (f_avg * f_avg * e_avg), PI * loss * (1.0 - f_avg * loss))
 }
 
 /// Directional albedo of [`kulla_conty_f_ms`], int f_ms cos dwi = (1 - E(wo)) F_avg^2 E_avg /
@@ -325,14 +325,14 @@ pub fn kulla_conty_albedo(e_o: f32, e_avg: f32, f_avg: f32) -> f32 {
     if !(loss > 0.0) {
         return if loss.is_nan() { f32::NAN } else { 0.0 };
     }
-    (1.0 - e_o) * (f_avg * f_avg * e_avg) / (1.0 - f_avg * loss)
+    ieee::div((1.0 - e_o) * (f_avg * f_avg * e_avg), 1.0 - f_avg * loss)
 }
 
 /// Turquin 2019 ("Practical multiple scattering compensation for microfacet models", eq. 16-18)
 /// scale of the single-scattering lobe: f = f_ss (1 + F0 (1/E(wo) - 1)), i.e. f_ms = F0 (1/E - 1) f_ss.
 #[inline]
 pub fn turquin_scale(e_o: f32, f0: f32) -> f32 {
-    1.0 + f0 * (1.0 / e_o - 1.0)
+    1.0 + f0 * (ieee::div(1.0, e_o) - 1.0)
 }
 
 /// Albedo of the single-scattering lobe with Schlick's F: E'' = f0 E + (f90 - f0) E' (Karis 2013
@@ -418,7 +418,7 @@ fn material_albedo_sample(lut: &[f32], m: &FurnaceMaterial, c: &CompensationTerm
     let wi = fresnel::reflect(wo, wm);
     let vh = wo.dot(wm);
     if wi.z > 0.0 && vh > 0.0 {
-        let w = masking::ggx_g2_height_correlated(wo, wi, alpha, alpha) / masking::ggx_g1(wo, alpha, alpha);
+        let w = ieee::div(masking::ggx_g2_height_correlated(wo, wi, alpha, alpha), masking::ggx_g1(wo, alpha, alpha));
         let lam = fresnel::schlick_weight(vh);
         let f_m = m.base + (1.0 - m.base) * lam;
         let f_d = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * lam;
@@ -456,5 +456,5 @@ pub fn furnace_albedo(lut: &[f32], m: &FurnaceMaterial, mu: f32, samples: u32, s
         s.add(material_albedo_sample(lut, m, &c, wo, u0, u1));
         k += 1;
     }
-    s.sum / samples as f32
+    ieee::div(s.sum, samples as f32)
 }

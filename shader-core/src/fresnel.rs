@@ -9,9 +9,9 @@
 //! Invalid input (documented per function, asserted in `tests/tests/bxdf_stress.rs`): NaN inputs
 //! propagate to NaN; a non-positive or non-finite relative IOR gives NaN.
 
+use crate::ieee;
 use crate::complex::Complex;
 use crate::vector::Vec3;
-use spirv_std::num_traits::Float;
 
 /// `(1 - c)^5` for `c = min(|cos_theta|, 1)`, the weight of Schlick's approximation.
 #[inline]
@@ -47,7 +47,7 @@ pub fn schlick_rgb(cos_theta: f32, f0: Vec3, f90: Vec3) -> Vec3 {
 /// (Schlick 1994, eq. 24; eta = 1.5 gives the glTF dielectric F0 of 0.04).
 #[inline]
 pub fn f0_from_eta(eta: f32) -> f32 {
-    let r = (eta - 1.0) / (eta + 1.0);
+    let r = ieee::div(eta - 1.0, eta + 1.0);
     r * r
 }
 
@@ -61,15 +61,15 @@ pub fn f0_from_eta(eta: f32) -> f32 {
 #[inline]
 pub fn cos_transmitted(c: f32, eta: f32) -> f32 {
     if eta >= 1.0 {
-        let ie = 1.0 / eta;
+        let ie = ieee::div(1.0, eta);
         let ci = c * ie;
-        Float::sqrt(ci * ci + (1.0 - ie) * (1.0 + ie))
+        ieee::sqrt(ci * ci + (1.0 - ie) * (1.0 + ie))
     } else {
         let num = c * c - (1.0 - eta) * (1.0 + eta);
         if num <= 0.0 {
             -1.0
         } else {
-            Float::sqrt(num / eta / eta)
+            ieee::sqrt(ieee::div(ieee::div(num, eta), eta))
         }
     }
 }
@@ -95,7 +95,7 @@ pub fn dielectric(cos_theta_i: f32, eta: f32) -> f32 {
     };
     let mut eta = eta;
     if c < 0.0 {
-        eta = 1.0 / eta;
+        eta = ieee::div(1.0, eta);
         c = -c;
         if eta == f32::INFINITY {
             return 1.0;
@@ -110,9 +110,9 @@ pub fn dielectric(cos_theta_i: f32, eta: f32) -> f32 {
     if cos_t < 0.0 {
         return 1.0;
     }
-    let r_parl = (eta * c - cos_t) / (eta * c + cos_t);
-    let r_perp = (c - eta * cos_t) / (c + eta * cos_t);
-    (r_parl * r_parl + r_perp * r_perp) / 2.0
+    let r_parl = ieee::div(eta * c - cos_t, eta * c + cos_t);
+    let r_perp = ieee::div(c - eta * cos_t, c + eta * cos_t);
+    ieee::div(r_parl * r_parl + r_perp * r_perp, 2.0)
 }
 
 /// Unpolarized Fresnel reflectance of a conductor with complex IOR eta + i k (PBRT-v4 eq. 9.6 /
@@ -161,7 +161,7 @@ pub fn conductor(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
     let ect = e * cos_t;
     let ci = Complex::real(c);
     let r_perp = (ci - ect) / (ci + ect);
-    (r_parl.norm() + r_perp.norm()) / 2.0
+    ieee::div(r_parl.norm() + r_perp.norm(), 2.0)
 }
 
 /// [`conductor`] per RGB channel.
@@ -198,17 +198,17 @@ pub fn gulbrandsen_nk(r: f32, g: f32) -> Complex {
     } else {
         g
     };
-    let sr = Float::sqrt(r);
-    let n_min = (1.0 - r) / (1.0 + r);
-    let n_max = (1.0 + sr) / (1.0 - sr);
+    let sr = ieee::sqrt(r);
+    let n_min = ieee::div(1.0 - r, 1.0 + r);
+    let n_max = ieee::div(1.0 + sr, 1.0 - sr);
     let n = g * n_min + (1.0 - g) * n_max;
     // k^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r), factored without cancellation: with
     // sqrt(r)(n + 1) - (n - 1) = (1 - sqrt r)(n_max - n) and n_max - n = g (n_max - n_min),
     // k^2 = g (n_max - n_min) (sqrt(r)(n + 1) + (n - 1)) / (1 + sqrt r) (exactly 0 at g = 0).
-    let k2 = g * (n_max - n_min) * (sr * (n + 1.0) + (n - 1.0)) / (1.0 + sr);
+    let k2 = ieee::div(g * (n_max - n_min) * (sr * (n + 1.0) + (n - 1.0)), 1.0 + sr);
     // k2 >= 0 in exact arithmetic for r in [0, 1), g in [0, 1]; clamp the rounding.
     let k = if k2 > 0.0 {
-        Float::sqrt(k2)
+        ieee::sqrt(k2)
     } else if k2.is_nan() {
         f32::NAN
     } else {
@@ -237,12 +237,12 @@ pub fn gulbrandsen_r_g(n: f32, k: f32) -> ReflectivityEdgeTint {
     let nm = n - 1.0;
     let np = n + 1.0;
     let k2 = k * k;
-    let r = (nm * nm + k2) / (np * np + k2);
-    let sr = Float::sqrt(r);
-    let n_min = (1.0 - r) / (1.0 + r);
-    let n_max = (1.0 + sr) / (1.0 - sr);
+    let r = ieee::div(nm * nm + k2, np * np + k2);
+    let sr = ieee::sqrt(r);
+    let n_min = ieee::div(1.0 - r, 1.0 + r);
+    let n_max = ieee::div(1.0 + sr, 1.0 - sr);
     let span = n_max - n_min;
-    let g = if span == 0.0 { 0.0 } else { (n_max - n) / span };
+    let g = if span == 0.0 { 0.0 } else { ieee::div(n_max - n, span) };
     ReflectivityEdgeTint { r, g }
 }
 
@@ -272,7 +272,7 @@ pub fn refract(wi: Vec3, n: Vec3, eta: f32) -> Refraction {
     let mut eta = eta;
     let mut n = n;
     if cos_i < 0.0 {
-        eta = 1.0 / eta;
+        eta = ieee::div(1.0, eta);
         cos_i = -cos_i;
         n = -n;
     }
@@ -289,11 +289,11 @@ pub fn refract(wi: Vec3, n: Vec3, eta: f32) -> Refraction {
     } else {
         // eta < 1 near normal incidence: sin^2 theta_i from the tangential part, exact there
         // (1 - cos^2 is not; matters when eta is small and the critical angle is near 0).
-        let sin2_t = wi_perp.length_squared() / eta / eta;
+        let sin2_t = ieee::div(ieee::div(wi_perp.length_squared(), eta), eta);
         if sin2_t >= 1.0 {
             -1.0
         } else {
-            Float::sqrt(1.0 - sin2_t)
+            ieee::sqrt(1.0 - sin2_t)
         }
     };
     if cos_t < 0.0 {

@@ -1,8 +1,9 @@
 //! Shading math shared bit-for-bit by the CPU backend and the rust-gpu SPIR-V kernels.
 //!
-//! Every function is written once and used by both backends; arithmetic is restricted to
-//! correctly rounded operations (`+ - * / sqrt`) with a fixed evaluation order, so CPU and GPU
-//! results agree to the bit on conforming devices (see README, "Bit-exactness").
+//! Every function is written once and used by both backends; arithmetic is restricted to the
+//! operations Vulkan requires correctly rounded (`+ - *`, conversions) plus the software division
+//! and square root of [`ieee`], with a fixed evaluation order, so CPU and GPU results agree to the
+//! bit on any conformant device (see README, "Bit-exactness", and docs/exactness.md).
 #![no_std]
 
 pub mod buffer;
@@ -10,6 +11,7 @@ pub mod bxdf;
 pub mod complex;
 pub mod energy;
 pub mod fresnel;
+pub mod ieee;
 pub mod masking;
 pub mod math;
 pub mod ndf;

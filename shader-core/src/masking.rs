@@ -21,10 +21,10 @@
 //!   infinite (both cosines 0, or alpha = 0 with a cosine 0, for the forms whose limit is
 //!   1 / (4 n.l n.v); v.h = 0 for Kelemen).
 
+use crate::ieee;
 use crate::math;
 use crate::ndf::alpha_valid;
 use crate::vector::Vec3;
-use spirv_std::num_traits::Float;
 
 /// 1 / sqrt(pi).
 const FRAC_1_SQRT_PI: f32 = 0.564_189_6;
@@ -58,7 +58,7 @@ fn is_zero(w: Vec3) -> bool {
 pub fn ggx_alpha2_tan2(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     let ax = w.x * alpha_x;
     let ay = w.y * alpha_y;
-    (ax * ax + ay * ay) / (w.z * w.z)
+    ieee::div(ax * ax + ay * ay, w.z * w.z)
 }
 
 /// GGX Smith Lambda (Heitz 2014, eq. 86): (-1 + sqrt(1 + alpha^2 tan^2 theta)) / 2, evaluated as
@@ -80,14 +80,14 @@ pub fn ggx_lambda(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
         // Normal incidence or alpha = 0 (z^2 may have underflowed: no 0/0).
         return 0.0;
     }
-    let a2t2 = p / (w.z * w.z); // = ggx_alpha2_tan2(w, alpha_x, alpha_y)
+    let a2t2 = ieee::div(p, w.z * w.z); // = ggx_alpha2_tan2(w, alpha_x, alpha_y)
     if a2t2 == f32::INFINITY {
         // Near grazing alpha^2 tan^2 overflows while Lambda ~ alpha tan / 2 need not:
         // Lambda = (p / (|z| + sqrt(z^2 + p))) / (2 |z|), ordered so nothing underflows early.
         let z = w.z.abs();
-        return p / (z + Float::sqrt(z * z + p)) / (2.0 * z);
+        return ieee::div(ieee::div(p, z + ieee::sqrt(z * z + p)), 2.0 * z);
     }
-    a2t2 / (2.0 * (1.0 + Float::sqrt(1.0 + a2t2)))
+    ieee::div(a2t2, 2.0 * (1.0 + ieee::sqrt(1.0 + a2t2)))
 }
 
 /// GGX Smith G1 = 1 / (1 + Lambda) (Heitz 2014, eq. 43), evaluated as
@@ -104,10 +104,10 @@ pub fn ggx_g1(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     let z = w.z.abs();
     let ax = w.x * alpha_x;
     let ay = w.y * alpha_y;
-    let r = Float::sqrt(z * z + ax * ax + ay * ay);
+    let r = ieee::sqrt(z * z + ax * ax + ay * ay);
     // r >= |z| exactly; only underflow of z^2 (z < 1e-19 relative, near grazing) can break it.
     let r = if r < z { z } else { r };
-    2.0 * z / (z + r)
+    ieee::div(2.0 * z, z + r)
 }
 
 /// Beckmann's a = 1 / (alpha_o tan theta) = |z| / sqrt(x^2 ax^2 + y^2 ay^2) (Walter 2007 eq. 26;
@@ -128,7 +128,7 @@ pub fn beckmann_a(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     if p == 0.0 {
         return f32::INFINITY;
     }
-    w.z.abs() / Float::sqrt(p)
+    ieee::div(w.z.abs(), ieee::sqrt(p))
 }
 
 /// Exact Beckmann Lambda as a function of a (Walter 2007 eq. 26 / Heitz 2014 sec. 5.1):
@@ -148,7 +148,7 @@ pub fn beckmann_lambda_from_a(a: f32) -> f32 {
     }
     if a < 1.5 {
         // Halved before the division so 1/a near f32::MAX does not overflow early.
-        math::exp(-(a * a)) * (0.5 * FRAC_1_SQRT_PI) / a - 0.5 * math::erfc(a)
+        ieee::div(math::exp(-(a * a)) * (0.5 * FRAC_1_SQRT_PI), a) - 0.5 * math::erfc(a)
     } else if a >= 10.5 {
         // exp(-a^2) < 2e-48: Lambda < exp(-a^2) / (4 sqrt(pi) a^3) rounds to 0.
         0.0
@@ -166,10 +166,10 @@ pub fn beckmann_lambda_from_a(a: f32) -> f32 {
         };
         let mut k = 0.0f32;
         while i > 0 {
-            k = (i as f32 * 0.5) / (a + k);
+            k = ieee::div(i as f32 * 0.5, a + k);
             i -= 1;
         }
-        math::exp(-(a * a)) * k * FRAC_1_SQRT_PI / (2.0 * a * (a + k))
+        ieee::div(math::exp(-(a * a)) * k * FRAC_1_SQRT_PI, 2.0 * a * (a + k))
     }
 }
 
@@ -183,7 +183,7 @@ pub fn beckmann_lambda(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 /// Exact Beckmann Smith G1 = 1 / (1 + Lambda) (Heitz 2014 eq. 43 with [`beckmann_lambda`]).
 #[inline]
 pub fn beckmann_g1(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
-    1.0 / (1.0 + beckmann_lambda(w, alpha_x, alpha_y))
+    ieee::div(1.0, 1.0 + beckmann_lambda(w, alpha_x, alpha_y))
 }
 
 /// Walter's rational approximation of the Beckmann Lambda (Walter 2007 eq. 27, written for Lambda
@@ -196,7 +196,7 @@ pub fn beckmann_lambda_walter(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
         return f32::NAN;
     }
     if a < 1.6 {
-        let l = (1.0 - 1.259 * a + 0.396 * (a * a)) / (3.535 * a + 2.181 * (a * a));
+        let l = ieee::div(1.0 - 1.259 * a + 0.396 * (a * a), 3.535 * a + 2.181 * (a * a));
         if l > 0.0 {
             l
         } else {
@@ -217,7 +217,7 @@ pub fn beckmann_g1_walter(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
         return f32::NAN;
     }
     if a < 1.6 {
-        let g = (3.535 * a + 2.181 * (a * a)) / (1.0 + 2.276 * a + 2.577 * (a * a));
+        let g = ieee::div(3.535 * a + 2.181 * (a * a), 1.0 + 2.276 * a + 2.577 * (a * a));
         min2(g, 1.0)
     } else {
         1.0
@@ -232,21 +232,21 @@ pub fn beckmann_g1_walter(w: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 /// Separable G2 = G1(wo) G1(wi) (Heitz 2014 eq. 98), from the two Lambda values.
 #[inline]
 pub fn g2_separable_from_lambda(lambda_o: f32, lambda_i: f32) -> f32 {
-    (1.0 / (1.0 + lambda_o)) * (1.0 / (1.0 + lambda_i))
+    (ieee::div(1.0, 1.0 + lambda_o)) * (ieee::div(1.0, 1.0 + lambda_i))
 }
 
 /// Height-correlated G2 = 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014 eq. 99).
 #[inline]
 pub fn g2_height_correlated_from_lambda(lambda_o: f32, lambda_i: f32) -> f32 {
-    1.0 / (1.0 + (lambda_o + lambda_i))
+    ieee::div(1.0, 1.0 + (lambda_o + lambda_i))
 }
 
 /// Direction-correlated G2 (Heitz 2014 eq. 100, after Ashikhmin et al. 2000): the separable form
 /// blended with the fully correlated one, lambda(phi) G1o G1i + (1 - lambda(phi)) min(G1o, G1i).
 #[inline]
 pub fn g2_direction_correlated_from_lambda(lambda_o: f32, lambda_i: f32, phi: f32) -> f32 {
-    let g1o = 1.0 / (1.0 + lambda_o);
-    let g1i = 1.0 / (1.0 + lambda_i);
+    let g1o = ieee::div(1.0, 1.0 + lambda_o);
+    let g1i = ieee::div(1.0, 1.0 + lambda_i);
     let l = ginneken_lambda(phi);
     l * (g1o * g1i) + (1.0 - l) * min2(g1o, g1i)
 }
@@ -263,7 +263,7 @@ pub fn g2_height_direction_correlated_from_lambda(lambda_o: f32, lambda_i: f32, 
     if hi == f32::INFINITY {
         return 0.0;
     }
-    1.0 / (1.0 + hi + ginneken_lambda(phi) * lo)
+    ieee::div(1.0, 1.0 + hi + ginneken_lambda(phi) * lo)
 }
 
 /// Van Ginneken et al. 1998's empirical correlation factor (Heitz 2014 eq. 101; RTR4 sec. 9.7):
@@ -271,7 +271,7 @@ pub fn g2_height_direction_correlated_from_lambda(lambda_o: f32, lambda_i: f32, 
 #[inline]
 pub fn ginneken_lambda(phi: f32) -> f32 {
     let t = 4.41 * phi;
-    t / (t + 1.0)
+    ieee::div(t, t + 1.0)
 }
 
 /// Azimuth difference phi in [0, pi] between the projections of `wo` and `wi` on the tangent plane:
@@ -353,7 +353,7 @@ fn sat_abs(c: f32) -> f32 {
 /// sqrt((-c a^2 + c) c + a^2) = sqrt(c^2 (1 - a^2) + a^2), the GGX "part lambda" of Lagarde 2014.
 #[inline]
 fn ggx_part_lambda(c: f32, a2: f32) -> f32 {
-    Float::sqrt((-c * a2 + c) * c + a2)
+    ieee::sqrt((-c * a2 + c) * c + a2)
 }
 
 /// Exact height-correlated Smith-GGX visibility, Lagarde's rearrangement (Lagarde & de Rousiers 2014,
@@ -370,7 +370,7 @@ pub fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
     let a2 = alpha * alpha;
     let lambda_v = nl * ggx_part_lambda(nv, a2);
     let lambda_l = nv * ggx_part_lambda(nl, a2);
-    0.5 / (lambda_v + lambda_l)
+    ieee::div(0.5, lambda_v + lambda_l)
 }
 
 /// Frostbite `V_SmithGGXCorrelated` (Lagarde & de Rousiers 2014, listing 2): exact.
@@ -407,7 +407,7 @@ pub fn v_hdrp_approx(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
     let part_lambda_v = nv * (1.0 - alpha) + alpha;
     let lambda_v = nl * part_lambda_v;
     let lambda_l = nv * ggx_part_lambda(nl, a2);
-    0.5 / (lambda_v + lambda_l)
+    ieee::div(0.5, lambda_v + lambda_l)
 }
 
 /// UE4 `Vis_SmithJointApprox` (UE4 `BRDF.ush`, after Heitz 2014; the seed's listing with
@@ -422,7 +422,7 @@ pub fn v_ue4(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
     let a = alpha;
     let vis_v = nl * (nv * (1.0 - a) + a);
     let vis_l = nv * (nl * (1.0 - a) + a);
-    0.5 / (vis_v + vis_l)
+    ieee::div(0.5, vis_v + vis_l)
 }
 
 /// Hammon's approximation (Hammon 2017, "PBR Diffuse Lighting for GGX+Smith Microsurfaces", GDC;
@@ -436,7 +436,7 @@ pub fn v_respawn(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
     let nl = sat_abs(n_dot_l);
     let x = 2.0 * (nl * nv);
     let y = nl + nv;
-    0.5 / (x * (1.0 - alpha) + y * alpha)
+    ieee::div(0.5, x * (1.0 - alpha) + y * alpha)
 }
 
 /// Filament `V_SmithGGXCorrelated_Fast` (Filament PBR doc sec. 4.4.2): 0.5 / mix(2 n.l n.v,
@@ -466,7 +466,7 @@ pub fn v_neumann(n_dot_v: f32, n_dot_l: f32) -> f32 {
     if nv.is_nan() || nl.is_nan() {
         return f32::NAN;
     }
-    1.0 / (4.0 * max2(nv, nl))
+    ieee::div(1.0, 4.0 * max2(nv, nl))
 }
 
 /// Kelemen & Szirmay-Kalos 2001 (RTR4 sec. 9.8; UE4 `Vis_Kelemen` without its 1e-5): G2 =
@@ -474,7 +474,7 @@ pub fn v_neumann(n_dot_v: f32, n_dot_l: f32) -> f32 {
 #[inline]
 pub fn v_kelemen(v_dot_h: f32) -> f32 {
     let vh = sat_abs(v_dot_h);
-    1.0 / (4.0 * (vh * vh))
+    ieee::div(1.0, 4.0 * (vh * vh))
 }
 
 /// Schlick-Smith (Schlick 1994 G1 = n.v / (n.v (1 - k) + k), fitted to Smith-GGX by Karis 2013,
@@ -496,7 +496,7 @@ pub fn v_schlick_smith_remapped(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
     if !v_alpha_valid(alpha) {
         return f32::NAN;
     }
-    let r1 = Float::sqrt(alpha) + 1.0;
+    let r1 = ieee::sqrt(alpha) + 1.0;
     schlick_smith_k(sat_abs(n_dot_v), sat_abs(n_dot_l), r1 * r1 * 0.125)
 }
 
@@ -504,7 +504,7 @@ pub fn v_schlick_smith_remapped(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
 fn schlick_smith_k(nv: f32, nl: f32, k: f32) -> f32 {
     let gv = nv * (1.0 - k) + k;
     let gl = nl * (1.0 - k) + k;
-    0.25 / (gv * gl)
+    ieee::div(0.25, gv * gl)
 }
 
 /// Cook-Torrance V-cavity (Cook & Torrance 1982, geometrical attenuation G, after Blinn 1977): G2 =
@@ -519,10 +519,10 @@ pub fn v_cook_torrance(n_dot_v: f32, n_dot_l: f32, n_dot_h: f32, v_dot_h: f32) -
     if nv.is_nan() || nl.is_nan() || nh.is_nan() || vh.is_nan() {
         return f32::NAN;
     }
-    let full = 1.0 / (4.0 * (nl * nv));
+    let full = ieee::div(1.0, 4.0 * (nl * nv));
     if vh == 0.0 {
         return full;
     }
     let t = 2.0 * vh;
-    min2(full, min2(nh / (t * nl), nh / (t * nv)))
+    min2(full, min2(ieee::div(nh, t * nl), ieee::div(nh, t * nv)))
 }

@@ -1,8 +1,8 @@
 //! Elementary functions for `f32`, bit-identical on every backend that rounds `+ - * / sqrt`
 //! correctly.
 //!
-//! Everything here is built only from correctly rounded IEEE-754 binary32 operations (`+ - * /`,
-//! `sqrt`), comparisons, bit casts (`to_bits`/`from_bits`), 32-bit integer arithmetic and
+//! Everything here is built only from correctly rounded IEEE-754 binary32 operations (`+ - *`,
+//! and division / square root through [`crate::ieee`]), comparisons, bit casts (`to_bits`/`from_bits`), 32-bit integer arithmetic and
 //! in-range `as` conversions between `f32` and `i32`/`u32`. There is no `mul_add`, no libm, no
 //! 64-bit arithmetic, no run-time indexed table and no recursion, and every expression is
 //! parenthesised in the order it is evaluated, so the native CPU build and the rust-gpu SPIR-V
@@ -22,7 +22,7 @@
 //!   of precision through argument reductions; they are exact only under round-to-nearest without
 //!   contraction, which is what both backends provide.
 
-use spirv_std::num_traits::Float;
+use crate::ieee;
 
 // ---------------------------------------------------------------------------------------------
 // Constants
@@ -442,17 +442,17 @@ pub fn saturate(x: f32) -> f32 {
     clamp(x, 0.0, 1.0)
 }
 
-/// Correctly rounded square root (`Float::sqrt`, i.e. IEEE sqrt): sqrt(-0) = -0, x < 0 gives NaN.
+/// Correctly rounded square root ([`ieee::sqrt`]): sqrt(-0) = -0, x < 0 gives NaN.
 #[inline]
 pub fn sqrt(x: f32) -> f32 {
-    Float::sqrt(x)
+    ieee::sqrt(x)
 }
 
 /// 1 / sqrt(x) as two correctly rounded operations (< 1 ULP): rsqrt(+0) = +inf, rsqrt(-0) = -inf,
 /// rsqrt(inf) = 0, x < 0 gives NaN.
 #[inline]
 pub fn rsqrt(x: f32) -> f32 {
-    1.0 / Float::sqrt(x)
+    ieee::div(1.0, ieee::sqrt(x))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -669,9 +669,9 @@ fn cos_kernel(rh: f32, rl: f32) -> (f32, f32) {
 fn div_pair(nh: f32, nl: f32, dh: f32, dl: f32) -> f32 {
     let (nh, nl) = fast_two_sum(nh, nl);
     let (dh, dl) = fast_two_sum(dh, dl);
-    let q = nh / dh;
+    let q = ieee::div(nh, dh);
     let (p, pe) = two_prod(q, dh);
-    let r = ((((nh - p) - pe) + nl) - (q * dl)) / dh;
+    let r = ieee::div((((nh - p) - pe) + nl) - (q * dl), dh);
     q + r
 }
 
@@ -786,7 +786,7 @@ pub fn tan(x: f32) -> f32 {
 fn atan_kernel(t: f32, tl: f32) -> (f32, f32) {
     let z = t * t;
     let a = horner!(z; ATAN_A0, ATAN_A1, ATAN_A2, ATAN_A3, ATAN_A4, ATAN_A5, ATAN_A6, ATAN_A7, ATAN_A8, ATAN_A9);
-    let lo = ((t * z) * a) + (tl / (1.0 + z));
+    let lo = ((t * z) * a) + (ieee::div(tl, 1.0 + z));
     (t, lo)
 }
 
@@ -822,9 +822,9 @@ pub fn atan(x: f32) -> f32 {
         // pi/2 - 1/a rounds to the f32 nearest pi/2 (inf included)
         PIO2_HI
     } else {
-        let t = 1.0 / a;
+        let t = ieee::div(1.0, a);
         let (p, pe) = two_prod(t, a);
-        let tl = ((1.0 - p) - pe) / a;
+        let tl = ieee::div((1.0 - p) - pe, a);
         let (h, l) = atan_kernel(t, tl);
         const_minus(PIO2_HI, PIO2_LO, h, l)
     };
@@ -866,7 +866,7 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     } else {
         let swap = ay > ax;
         let (mut num, mut den) = if swap { (ax, ay) } else { (ay, ax) };
-        let t = num / den;
+        let t = ieee::div(num, den);
         let tl = if t < pow2i(-26) {
             // the correction is below the final rounding; t is the correctly rounded ratio,
             // denormal included
@@ -882,7 +882,7 @@ pub fn atan2(y: f32, x: f32) -> f32 {
                 den *= pow2i(64);
             }
             let (p, pe) = two_prod(t, den);
-            ((num - p) - pe) / den
+            ieee::div((num - p) - pe, den)
         };
         let (h, l) = atan_kernel(t, tl);
         if !swap {
@@ -910,9 +910,9 @@ fn asin_poly(z: f32) -> f32 {
 #[inline]
 fn asin_half(a: f32) -> (f32, f32) {
     let z = (1.0 - a) * 0.5; // exact
-    let s = Float::sqrt(z);
+    let s = ieee::sqrt(z);
     let (p, pe) = two_prod(s, s);
-    let sl = ((z - p) - pe) / (s + s);
+    let sl = ieee::div((z - p) - pe, s + s);
     let tail = sl + ((s * z) * asin_poly(z));
     (s, tail)
 }
@@ -1102,7 +1102,7 @@ fn log_split(x: f32) -> (f32, f32) {
 /// corr = f^2/2 - s (f^2/2 + s^2 R(s^2)).
 #[inline]
 fn log1p_corr(f: f32) -> f32 {
-    let s = f / (2.0 + f);
+    let s = ieee::div(f, 2.0 + f);
     let z = s * s;
     let r = z * horner!(z; LOG_R0, LOG_R1, LOG_R2, LOG_R3);
     let hfsq = (0.5 * f) * f;
@@ -1176,7 +1176,7 @@ pub fn log1p(x: f32) -> f32 {
     let (ef, f) = log_split(u);
     let corr = log1p_corr(f);
     let (h, l) = two_sum(ef * LN2_C1, f);
-    h + (((l + (ef * LN2_C2)) + (c / u)) - corr)
+    h + (((l + (ef * LN2_C2)) + (ieee::div(c, u))) - corr)
 }
 
 /// log2(x) as hi + lo with about 40 correct bits, for finite x > 0 (used by `pow`).
@@ -1184,9 +1184,9 @@ fn log2_ext(x: f32) -> (f32, f32) {
     let (ef, f) = log_split(x);
     // s = f / (2 + f) as sh + sl
     let (dh, dl) = fast_two_sum(2.0, f);
-    let sh = f / dh;
+    let sh = ieee::div(f, dh);
     let (p, pe) = two_prod(sh, dh);
-    let sl = (((f - p) - pe) - (sh * dl)) / dh;
+    let sl = ieee::div(((f - p) - pe) - (sh * dl), dh);
     // s^2 and s^3 as pairs
     let (zh, zl) = two_prod(sh, sh);
     let zl = zl + ((sh + sh) * sl);

@@ -16,10 +16,10 @@
 //! * A NaN or infinite component in `wm` returns NaN.
 //! * D is +Inf only where the true density exceeds `f32::MAX` (alpha below ~1e-19 at the peak).
 
+use crate::ieee;
 use crate::math;
 use crate::vector::Vec3;
 use core::f32::consts::PI;
-use spirv_std::num_traits::Float;
 
 /// False unless both roughness values are valid (finite and >= 0; NaN is invalid).
 #[inline]
@@ -38,13 +38,13 @@ pub fn ggx_d(wm: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
         return 0.0;
     }
     let wm = wm.pow2_rescaled();
-    let sx = wm.x / alpha_x;
-    let sy = wm.y / alpha_y;
+    let sx = ieee::div(wm.x, alpha_x);
+    let sy = ieee::div(wm.y, alpha_y);
     let q = sx * sx + sy * sy + wm.z * wm.z;
     let len2 = wm.length_squared();
     // (len2 / q)^2 / (pi ax ay); written as a ratio first so neither q^2 nor len2^2 overflows early.
-    let r = len2 / q;
-    r * r / (PI * alpha_x * alpha_y)
+    let r = ieee::div(len2, q);
+    ieee::div(r * r, PI * alpha_x * alpha_y)
 }
 
 /// Anisotropic Beckmann NDF (Walter et al. 2007, "Microfacet Models for Refraction", eq. 25;
@@ -59,16 +59,16 @@ pub fn beckmann_d(wm: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
         return 0.0;
     }
     let wm = wm.pow2_rescaled();
-    let sx = wm.x / alpha_x;
-    let sy = wm.y / alpha_y;
+    let sx = ieee::div(wm.x, alpha_x);
+    let sy = ieee::div(wm.y, alpha_y);
     let z2 = wm.z * wm.z;
-    let e = math::exp(-((sx * sx + sy * sy) / z2));
+    let e = math::exp(-(ieee::div(sx * sx + sy * sy, z2)));
     if e == 0.0 {
         // Far tail (or z^2 underflowed): the density is below the smallest float.
         return 0.0;
     }
-    let r = wm.length_squared() / z2; // 1 / cos^2(theta)
-    e * r * r / (PI * alpha_x * alpha_y)
+    let r = ieee::div(wm.length_squared(), z2); // 1 / cos^2(theta)
+    ieee::div(e * r * r, PI * alpha_x * alpha_y)
 }
 
 /// Blinn-Phong exponent equivalent to Beckmann roughness alpha (Walter 2007, eq. 32;
@@ -79,7 +79,7 @@ pub fn blinn_phong_exponent_from_alpha(alpha: f32) -> f32 {
     if !alpha_valid(alpha, alpha) {
         return f32::NAN;
     }
-    2.0 / (alpha * alpha) - 2.0
+    ieee::div(2.0, alpha * alpha) - 2.0
 }
 
 /// Inverse of [`blinn_phong_exponent_from_alpha`]: alpha = sqrt(2 / (n + 2)); n = +Inf gives 0.
@@ -89,7 +89,7 @@ pub fn blinn_phong_alpha_from_exponent(exponent: f32) -> f32 {
     if !(exponent >= 0.0) {
         return f32::NAN;
     }
-    Float::sqrt(2.0 / (exponent + 2.0))
+    ieee::sqrt(ieee::div(2.0, exponent + 2.0))
 }
 
 /// Normalized Blinn-Phong NDF (Walter 2007, eq. 30; RTR4 sec. 9.8.1):
@@ -103,12 +103,12 @@ pub fn blinn_phong_d(wm: Vec3, exponent: f32) -> f32 {
     if wm.z <= 0.0 || exponent == f32::INFINITY {
         return 0.0;
     }
-    let norm = (exponent + 2.0) / (2.0 * PI);
+    let norm = ieee::div(exponent + 2.0, 2.0 * PI);
     if exponent == 0.0 {
         return norm;
     }
     let wm = wm.pow2_rescaled();
-    let t2 = (wm.x * wm.x + wm.y * wm.y) / (wm.z * wm.z); // tan^2(theta)
+    let t2 = ieee::div(wm.x * wm.x + wm.y * wm.y, wm.z * wm.z); // tan^2(theta)
     norm * math::exp(-(0.5 * exponent) * math::log1p(t2))
 }
 
@@ -127,11 +127,11 @@ pub fn gtr1_d(wm: Vec3, alpha: f32) -> f32 {
     let a2 = alpha * alpha;
     let x = a2 - 1.0;
     let c = if x == 0.0 {
-        1.0 / PI
+        ieee::div(1.0, PI)
     } else {
         // ln(a^2): log1p near alpha = 1 (no cancellation), 2 ln(alpha) elsewhere (a^2 may underflow).
         let l = if alpha > 0.5 && alpha < 2.0 { math::log1p(x) } else { 2.0 * math::log(alpha) };
-        x / (PI * l)
+        ieee::div(x, PI * l)
     };
     let wm = wm.pow2_rescaled();
     let den = wm.x * wm.x + wm.y * wm.y + a2 * (wm.z * wm.z);
@@ -139,7 +139,7 @@ pub fn gtr1_d(wm: Vec3, alpha: f32) -> f32 {
         // At the peak with a^2 underflowed to 0: the density exceeds f32::MAX.
         return f32::INFINITY;
     }
-    c * (wm.length_squared() / den)
+    c * (ieee::div(wm.length_squared(), den))
 }
 
 /// GTR2 NDF (Burley 2012, appendix B.2, GTR with gamma = 2; identical to isotropic GGX):
@@ -159,8 +159,8 @@ pub fn gtr2_d(wm: Vec3, alpha: f32) -> f32 {
     if den == 0.0 {
         return f32::INFINITY;
     }
-    let r = wm.length_squared() / den;
-    a2 * r * r / PI
+    let r = ieee::div(wm.length_squared(), den);
+    ieee::div(a2 * r * r, PI)
 }
 
 /// Disney anisotropy (Burley 2012, appendix B.2): aspect = sqrt(1 - 0.9 anisotropic),
@@ -171,9 +171,9 @@ pub fn disney_aniso_alphas(roughness: f32, anisotropic: f32) -> (f32, f32) {
     if !(roughness >= 0.0 && roughness < f32::INFINITY && anisotropic >= 0.0 && anisotropic <= 1.0) {
         return (f32::NAN, f32::NAN);
     }
-    let aspect = Float::sqrt(1.0 - 0.9 * anisotropic);
+    let aspect = ieee::sqrt(1.0 - 0.9 * anisotropic);
     let alpha = roughness * roughness;
-    (alpha / aspect, alpha * aspect)
+    (ieee::div(alpha, aspect), alpha * aspect)
 }
 
 /// GGX in UE4's form (Karis 2013, "Real Shading in Unreal Engine 4", eq. 2; UE4 `D_GGX`):
@@ -190,7 +190,7 @@ pub fn ggx_d_ue4(n_dot_h: f32, alpha: f32) -> f32 {
     let c = if n_dot_h > 1.0 { 1.0 } else { n_dot_h };
     let a2 = alpha * alpha;
     let d = (c * a2 - c) * c + 1.0;
-    a2 / (PI * d * d)
+    ieee::div(a2, PI * d * d)
 }
 
 /// Filament's GGX (Filament PBR doc sec. 4.4.1, `D_GGX`) with 1 - NoH^2 evaluated naively (the
@@ -233,6 +233,6 @@ fn ggx_d_mobile_core(n_dot_h: f32, one_minus_noh2: f32, alpha: f32) -> f32 {
     if den == 0.0 {
         return f32::INFINITY;
     }
-    let k = alpha / den;
-    k * k * (1.0 / PI)
+    let k = ieee::div(alpha, den);
+    k * k * (ieee::div(1.0, PI))
 }

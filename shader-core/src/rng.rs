@@ -1,5 +1,7 @@
 //! Random and low-discrepancy numbers from integer operations only (identical on CPU and GPU).
 
+use crate::ieee;
+
 /// PCG hash of one 32-bit word (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering", pcg).
 #[inline]
 pub fn pcg_hash(v: u32) -> u32 {
@@ -84,7 +86,7 @@ impl Pcg32 {
 /// The top 24 bits of `bits` as a float in [0, 1) (exact: every value is k / 2^24).
 #[inline]
 pub fn u32_to_unit_f32(bits: u32) -> f32 {
-    (bits >> 8) as f32 * (1.0 / 16_777_216.0)
+    (bits >> 8) as f32 * (ieee::div(1.0, 16_777_216.0))
 }
 
 /// Reverse the bits of a 32-bit word with shifts and masks.

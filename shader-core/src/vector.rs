@@ -1,8 +1,8 @@
 //! Three-component vectors with a fixed evaluation order (no fused or reassociated arithmetic), so
 //! every operation rounds identically on the CPU and in SPIR-V.
 
+use crate::ieee;
 use core::ops::{Add, Div, Mul, Neg, Sub};
-use spirv_std::num_traits::Float;
 
 /// A direction or point in the local shading frame (normal = +z) or in world space.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -45,14 +45,14 @@ impl Vec3 {
     /// `sqrt(dot(v, v))` (correctly rounded sqrt; no hypot scaling, so |v| must be below ~1e19).
     #[inline]
     pub fn length(self) -> f32 {
-        Float::sqrt(self.length_squared())
+        ieee::sqrt(self.length_squared())
     }
 
     /// `v / |v|` componentwise; the zero vector maps to NaN, see [`Vec3::normalize_or_zero`].
     #[inline]
     pub fn normalize(self) -> Vec3 {
         let len = self.length();
-        Vec3::new(self.x / len, self.y / len, self.z / len)
+        Vec3::new(ieee::div(self.x, len), ieee::div(self.y, len), ieee::div(self.z, len))
     }
 
     /// `v / |v|`, or the zero vector when |v| is 0 or not finite.
@@ -60,7 +60,7 @@ impl Vec3 {
     pub fn normalize_or_zero(self) -> Vec3 {
         let len = self.length();
         if len > 0.0 && len < f32::INFINITY {
-            Vec3::new(self.x / len, self.y / len, self.z / len)
+            Vec3::new(ieee::div(self.x, len), ieee::div(self.y, len), ieee::div(self.z, len))
         } else {
             Vec3::ZERO
         }
@@ -147,6 +147,6 @@ impl Div<f32> for Vec3 {
     type Output = Vec3;
     #[inline]
     fn div(self, s: f32) -> Vec3 {
-        Vec3::new(self.x / s, self.y / s, self.z / s)
+        Vec3::new(ieee::div(self.x, s), ieee::div(self.y, s), ieee::div(self.z, s))
     }
 }

@@ -15,12 +15,12 @@
 //! `sample_vndf_caps`, `sample_vndf_bounded`), each returning wo = reflect(wi, wm) with its density
 //! on the sphere, and the matching `pdf_*`; their own conventions are stated above `ReflectionSample`.
 
+use crate::ieee;
 use crate::masking;
 use crate::math;
 use crate::ndf;
 use crate::vector::Vec3;
 use crate::warp;
-use spirv_std::num_traits::Float;
 
 /// Heitz 2018 VNDF sample (JCGT 7(4) listing 1; PBRT-v4 eqs. 9.25-9.27): stretch `w` to the
 /// hemisphere configuration, sample the projected disk with the lower half squeezed onto the visible
@@ -38,11 +38,11 @@ pub fn ggx_sample_visible_heitz2018(w: Vec3, alpha_x: f32, alpha_y: f32, u0: f32
     };
     let t2 = wh.cross(t1);
     let p = warp::sample_uniform_disk_polar(u0, u1);
-    let h = Float::sqrt(1.0 - p.x * p.x);
-    let s = (1.0 + wh.z) / 2.0;
+    let h = ieee::sqrt(1.0 - p.x * p.x);
+    let s = ieee::div(1.0 + wh.z, 2.0);
     let py = (1.0 - s) * h + s * p.y;
     let pz2 = 1.0 - p.x * p.x - py * py;
-    let pz = if pz2 > 0.0 { Float::sqrt(pz2) } else { 0.0 };
+    let pz = if pz2 > 0.0 { ieee::sqrt(pz2) } else { 0.0 };
     let nh = t1 * p.x + t2 * py + wh * pz;
     let nz = if nh.z > 1e-6 { nh.z } else { 1e-6 };
     Vec3::new(alpha_x * nh.x, alpha_y * nh.y, nz).normalize()
@@ -55,7 +55,7 @@ pub fn ggx_sample_visible_heitz2018(w: Vec3, alpha_x: f32, alpha_y: f32, u0: f32
 pub fn ggx_visible_pdf(w: Vec3, wm: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     let g1 = masking::ggx_g1(w, alpha_x, alpha_y);
     let d = ndf::ggx_d(wm, alpha_x, alpha_y);
-    g1 / w.z.abs() * d * w.dot(wm).abs()
+    ieee::div(g1, w.z.abs()) * d * w.dot(wm).abs()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -137,11 +137,11 @@ fn stretched_tangential_len2(wi: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 /// D (t - wi.z) / (2 len2) (Eto & Tokuyoshi 2023, listing 2).
 #[inline]
 fn vndf_reflection_pdf(d: f32, wi: Vec3, len2: f32) -> f32 {
-    let t = Float::sqrt(len2 + wi.z * wi.z);
+    let t = ieee::sqrt(len2 + wi.z * wi.z);
     if wi.z >= 0.0 {
-        d / (2.0 * (wi.z + t))
+        ieee::div(d, 2.0 * (wi.z + t))
     } else {
-        d * (t - wi.z) / (2.0 * len2)
+        ieee::div(d * (t - wi.z), 2.0 * len2)
     }
 }
 
@@ -151,10 +151,10 @@ fn vndf_reflection_pdf(d: f32, wi: Vec3, len2: f32) -> f32 {
 /// normalize(alpha_x x, alpha_y y, z) - the same distribution as tan(theta_m) = alpha sqrt(u1 / (1 - u1)).
 #[inline]
 pub fn sample_wm_ndf(alpha_x: f32, alpha_y: f32, u1: f32, u2: f32) -> Vec3 {
-    let r = Float::sqrt(u1);
+    let r = ieee::sqrt(u1);
     let (s, c) = sin_cos_2pi(u2);
     let z2 = 1.0 - u1;
-    let z = if z2 > 0.0 { Float::sqrt(z2) } else { 0.0 };
+    let z = if z2 > 0.0 { ieee::sqrt(z2) } else { 0.0 };
     Vec3::new(alpha_x * (r * c), alpha_y * (r * s), z).normalize()
 }
 
@@ -172,7 +172,7 @@ pub fn sample_ndf(wi: Vec3, alpha_x: f32, alpha_y: f32, u1: f32, u2: f32) -> Ref
     let wm = sample_wm_ndf(alpha_x, alpha_y, u1, u2);
     let wo = reflect(wi, wm);
     let d = ndf::ggx_d(wm, alpha_x, alpha_y);
-    let pdf = if d == 0.0 { 0.0 } else { d * wm.z / (4.0 * wi.dot(wm).abs()) };
+    let pdf = if d == 0.0 { 0.0 } else { ieee::div(d * wm.z, 4.0 * wi.dot(wm).abs()) };
     ReflectionSample { wo, pdf }
 }
 
@@ -201,12 +201,12 @@ pub fn pdf_ndf(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     let lw = wi.length() * wo.length();
     let c = wi.dot(wo);
     let one_plus_cos = if c >= 0.0 {
-        1.0 + c / lw
+        1.0 + ieee::div(c, lw)
     } else {
-        wi.cross(wo).length_squared() / (lw * (lw - c))
+        ieee::div(wi.cross(wo).length_squared(), lw * (lw - c))
     };
-    let cos_half = Float::sqrt(0.5 * one_plus_cos);
-    d * (h.z / h.length()) / (4.0 * cos_half)
+    let cos_half = ieee::sqrt(0.5 * one_plus_cos);
+    ieee::div(d * (ieee::div(h.z, h.length())), 4.0 * cos_half)
 }
 
 /// Heitz 2018 ellipsoid VNDF sampling ("Sampling the GGX Distribution of Visible Normals", JCGT
@@ -235,24 +235,24 @@ pub fn sample_vndf_heitz(wi: Vec3, alpha_x: f32, alpha_y: f32, u1: f32, u2: f32)
     // Orthonormal basis, with the special case when the cross product with z is zero.
     let lensq = vh.x * vh.x + vh.y * vh.y;
     let t1 = if lensq > 0.0 {
-        let inv = 1.0 / Float::sqrt(lensq);
+        let inv = ieee::div(1.0, ieee::sqrt(lensq));
         Vec3::new(-vh.y * inv, vh.x * inv, 0.0)
     } else {
         Vec3::new(1.0, 0.0, 0.0)
     };
     let t2 = vh.cross(t1);
     // Parameterization of the projected area.
-    let r = Float::sqrt(u1);
+    let r = ieee::sqrt(u1);
     let (sp, cp) = sin_cos_2pi(u2);
     let p1 = r * cp;
     let p2 = r * sp;
     let s = 0.5 * (1.0 + vh.z);
     let w2 = 1.0 - p1 * p1;
-    let w = if w2 > 0.0 { Float::sqrt(w2) } else { 0.0 };
+    let w = if w2 > 0.0 { ieee::sqrt(w2) } else { 0.0 };
     let p2 = (1.0 - s) * w + s * p2;
     // Reprojection onto the hemisphere.
     let q = 1.0 - p1 * p1 - p2 * p2;
-    let pz = if q > 0.0 { Float::sqrt(q) } else { 0.0 };
+    let pz = if q > 0.0 { ieee::sqrt(q) } else { 0.0 };
     let nh = t1 * p1 + t2 * p2 + vh * pz;
     // Back to the ellipsoid configuration.
     let nz = if nh.z > 0.0 { nh.z } else { 0.0 };
@@ -299,13 +299,13 @@ pub fn pdf_vndf_caps(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 /// normalize(wi_std + o_std), wo = reflect(wi, wm). Returns (wo, wm).
 #[inline]
 fn sample_cap_reflection(wi: Vec3, alpha_x: f32, alpha_y: f32, len2: f32, b_scale: f32, u1: f32, u2: f32) -> (Vec3, Vec3) {
-    let t = Float::sqrt(len2 + wi.z * wi.z);
-    let i_std = Vec3::new(alpha_x * wi.x / t, alpha_y * wi.y / t, wi.z / t);
+    let t = ieee::sqrt(len2 + wi.z * wi.z);
+    let i_std = Vec3::new(ieee::div(alpha_x * wi.x, t), ieee::div(alpha_y * wi.y, t), ieee::div(wi.z, t));
     let b = b_scale * i_std.z;
     let (sp, cp) = sin_cos_2pi(u1);
     let z = (1.0 - u2) * (1.0 + b) - b;
     let st2 = 1.0 - z * z;
-    let sin_theta = if st2 > 0.0 { if st2 < 1.0 { Float::sqrt(st2) } else { 1.0 } } else { 0.0 };
+    let sin_theta = if st2 > 0.0 { if st2 < 1.0 { ieee::sqrt(st2) } else { 1.0 } } else { 0.0 };
     let o_std = Vec3::new(sin_theta * cp, sin_theta * sp, z);
     let m_std = i_std + o_std;
     let wm = Vec3::new(alpha_x * m_std.x, alpha_y * m_std.y, m_std.z).normalize();
@@ -351,12 +351,12 @@ pub fn bounded_vndf_k(wi: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 pub fn bounded_vndf_k_pair(wi: Vec3, alpha_x: f32, alpha_y: f32) -> (f32, f32) {
     let a = if alpha_x < alpha_y { alpha_x } else { alpha_y };
     let a = if a > 1.0 { 1.0 } else if a < 0.0 { 0.0 } else { a };
-    let s = 1.0 + Float::sqrt(wi.x * wi.x + wi.y * wi.y);
+    let s = 1.0 + ieee::sqrt(wi.x * wi.x + wi.y * wi.y);
     let a2 = a * a;
     let s2 = s * s;
     let z2 = wi.z * wi.z;
     let den = s2 + a2 * z2;
-    ((1.0 - a2) * s2 / den, a2 * (s2 + z2) / den)
+    (ieee::div((1.0 - a2) * s2, den), ieee::div(a2 * (s2 + z2), den))
 }
 
 /// Eto & Tokuyoshi 2023 bounded VNDF sampling (listing 1, `SampleGGXReflection`): the spherical
@@ -381,8 +381,8 @@ pub fn sample_vndf_bounded(wi: Vec3, alpha_x: f32, alpha_y: f32, u1: f32, u2: f3
     let pdf = if d == 0.0 {
         0.0
     } else if wi.z >= 0.0 {
-        let t = Float::sqrt(len2 + wi.z * wi.z);
-        d / (2.0 * (k * wi.z + t))
+        let t = ieee::sqrt(len2 + wi.z * wi.z);
+        ieee::div(d, 2.0 * (k * wi.z + t))
     } else {
         vndf_reflection_pdf(d, wi, len2)
     };
@@ -417,8 +417,8 @@ pub fn pdf_vndf_bounded(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
     if wo.z < 0.0 && !bounded_cap_contains(wi, h, alpha_x, alpha_y, one_minus_k) {
         return 0.0;
     }
-    let t = Float::sqrt(len2 + wi.z * wi.z);
-    d / (2.0 * (k * wi.z + t))
+    let t = ieee::sqrt(len2 + wi.z * wi.z);
+    ieee::div(d, 2.0 * (k * wi.z + t))
 }
 
 /// Whether the stretched reflection of wi off the half vector h = wi + wo lies in the bounded cap
@@ -427,8 +427,8 @@ pub fn pdf_vndf_bounded(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 /// alpha > 0 and h.z > 0 are the caller's.
 #[inline]
 pub fn bounded_cap_contains(wi: Vec3, h: Vec3, alpha_x: f32, alpha_y: f32, one_minus_k: f32) -> bool {
-    let sx = h.x / alpha_x;
-    let sy = h.y / alpha_y;
+    let sx = ieee::div(h.x, alpha_x);
+    let sy = ieee::div(h.y, alpha_y);
     let hs2 = sx * sx + sy * sy + h.z * h.z;
     2.0 * wi.dot(h) * h.z > one_minus_k * wi.z * hs2
 }

@@ -4,10 +4,10 @@
 //! Conventions: `u0`, `u1` are expected in [0, 1); values outside are not clamped (the maps are
 //! still defined, see each function), NaN propagates.
 
+use crate::ieee;
 use crate::math;
 use crate::vector::Vec3;
 use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
-use spirv_std::num_traits::Float;
 
 /// A point on the unit disk.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -19,7 +19,7 @@ pub struct Point2 {
 /// Uniform disk by the polar map (PBRT-v4 `SampleUniformDiskPolar`): r = sqrt(u0), phi = 2 pi u1.
 #[inline]
 pub fn sample_uniform_disk_polar(u0: f32, u1: f32) -> Point2 {
-    let r = Float::sqrt(u0);
+    let r = ieee::sqrt(u0);
     let phi = 2.0 * PI * u1;
     Point2 { x: r * math::cos(phi), y: r * math::sin(phi) }
 }
@@ -34,9 +34,9 @@ pub fn sample_uniform_disk_concentric(u0: f32, u1: f32) -> Point2 {
         return Point2 { x: 0.0, y: 0.0 };
     }
     let (r, theta) = if ox.abs() > oy.abs() {
-        (ox, FRAC_PI_4 * (oy / ox))
+        (ox, FRAC_PI_4 * (ieee::div(oy, ox)))
     } else {
-        (oy, FRAC_PI_2 - FRAC_PI_4 * (ox / oy))
+        (oy, FRAC_PI_2 - FRAC_PI_4 * (ieee::div(ox, oy)))
     };
     Point2 { x: r * math::cos(theta), y: r * math::sin(theta) }
 }
@@ -47,7 +47,7 @@ pub fn sample_uniform_disk_concentric(u0: f32, u1: f32) -> Point2 {
 pub fn sample_cosine_hemisphere(u0: f32, u1: f32) -> Vec3 {
     let d = sample_uniform_disk_concentric(u0, u1);
     let z2 = 1.0 - d.x * d.x - d.y * d.y;
-    let z = if z2 > 0.0 { Float::sqrt(z2) } else { 0.0 };
+    let z = if z2 > 0.0 { ieee::sqrt(z2) } else { 0.0 };
     Vec3::new(d.x, d.y, z)
 }
 

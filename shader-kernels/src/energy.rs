@@ -5,6 +5,7 @@
 //! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args[0]` = invocations,
 //! `args[1]` = groups in x; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`.
 
+use shader_core::ieee;
 use crate::invocation;
 use shader_core::energy::{self, FurnaceMaterial};
 use spirv_std::glam::UVec3;
@@ -49,14 +50,14 @@ pub fn furnace_pixel(i: u32, args: &[u32], lut: &[f32]) -> (f32, f32, f32) {
         let spheres = args[5];
         let cell = width / spheres;
         let k = x / cell;
-        let r = if spheres > 1 { k as f32 / (spheres - 1) as f32 } else { 0.0 };
-        let px = 2.0 * ((x - k * cell) as f32 + 0.5) / cell as f32 - 1.0;
-        let py = 1.0 - 2.0 * (y as f32 + 0.5) / args[4] as f32;
+        let r = if spheres > 1 { ieee::div(k as f32, (spheres - 1) as f32) } else { 0.0 };
+        let px = ieee::div(2.0 * ((x - k * cell) as f32 + 0.5), cell as f32) - 1.0;
+        let py = 1.0 - ieee::div(2.0 * (y as f32 + 0.5), args[4] as f32);
         let rr = px * px + py * py;
         if !(rr < 1.0) || k >= spheres {
             return (1.0, 0.0, r);
         }
-        let mu = spirv_std::num_traits::Float::sqrt(1.0 - rr);
+        let mu = ieee::sqrt(1.0 - rr);
         (if mu < energy::MU_MIN { energy::MU_MIN } else { mu }, r)
     };
     let m = FurnaceMaterial {

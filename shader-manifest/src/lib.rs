@@ -228,6 +228,42 @@ const MODE_SIGNED_ZERO_INF_NAN_PRESERVE: u32 = 4461;
 /// entry point, so the driver may not fold away the sign of zero or assume no NaN/Inf (e.g.
 /// rewrite `0 * x` or `x + 0`), as the CPU's IEEE arithmetic does not. Idempotent.
 pub fn preserve_signed_zero_inf_nan(words: &[u32]) -> Result<Vec<u32>, String> {
+    declare_fp32_mode(words, CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE, MODE_SIGNED_ZERO_INF_NAN_PRESERVE)
+}
+
+const CAPABILITY_DENORM_PRESERVE: u32 = 4464;
+const CAPABILITY_DENORM_FLUSH_TO_ZERO: u32 = 4465;
+const MODE_DENORM_PRESERVE: u32 = 4459;
+const MODE_DENORM_FLUSH_TO_ZERO: u32 = 4460;
+
+/// The 32-bit denormal mode a module declares (SPIR-V 1.4 float controls).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DenormMode {
+    /// `DenormPreserve`: denormal operands and results kept (as on the CPU).
+    Preserve,
+    /// `DenormFlushToZero`: denormal operands and results flushed to zero.
+    FlushToZero,
+}
+
+/// Declare `mode` for 32-bit floats on every entry point, with its capability. The host does
+/// this at module-load time where the device supports the mode (`host::float_controls`); the
+/// committed module declares neither. Idempotent; a module declaring the other mode is refused.
+pub fn declare_denorm_mode(words: &[u32], mode: DenormMode) -> Result<Vec<u32>, String> {
+    let (cap, m, other) = match mode {
+        DenormMode::Preserve => (CAPABILITY_DENORM_PRESERVE, MODE_DENORM_PRESERVE, MODE_DENORM_FLUSH_TO_ZERO),
+        DenormMode::FlushToZero => (CAPABILITY_DENORM_FLUSH_TO_ZERO, MODE_DENORM_FLUSH_TO_ZERO, MODE_DENORM_PRESERVE),
+    };
+    for (op, r) in instructions(words)? {
+        if op == OP_EXECUTION_MODE && r.len() >= 4 && words[r.start + 2] == other && words[r.start + 3] == 32 {
+            return Err(format!("SPIR-V module already declares the other denormal mode than {mode:?}"));
+        }
+    }
+    declare_fp32_mode(words, cap, m)
+}
+
+/// Add `OpCapability cap` (once) and `OpExecutionMode %entry mode 32` to every entry point that
+/// lacks it. Idempotent.
+fn declare_fp32_mode(words: &[u32], capability: u32, mode: u32) -> Result<Vec<u32>, String> {
     let insts = instructions(words)?;
     let mut last_capability = None;
     let mut has_capability = false;
@@ -238,14 +274,14 @@ pub fn preserve_signed_zero_inf_nan(words: &[u32]) -> Result<Vec<u32>, String> {
         match *op {
             OP_CAPABILITY => {
                 last_capability = Some(r.end);
-                has_capability |= words[r.start + 1] == CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE;
+                has_capability |= words[r.start + 1] == capability;
             }
             OP_ENTRY_POINT => {
                 entry_ids.push(words[r.start + 2]);
                 mode_at = Some(r.end);
             }
             OP_EXECUTION_MODE => {
-                if words[r.start + 2] == MODE_SIGNED_ZERO_INF_NAN_PRESERVE {
+                if words[r.start + 2] == mode {
                     has_mode.insert(words[r.start + 1]);
                 }
                 mode_at = Some(r.end);
@@ -258,12 +294,12 @@ pub fn preserve_signed_zero_inf_nan(words: &[u32]) -> Result<Vec<u32>, String> {
     let mut out = Vec::with_capacity(words.len() + 2 + 4 * entry_ids.len());
     out.extend_from_slice(&words[..cap_at]);
     if !has_capability {
-        out.extend_from_slice(&[(2 << 16) | OP_CAPABILITY, CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE]);
+        out.extend_from_slice(&[(2 << 16) | OP_CAPABILITY, capability]);
     }
     out.extend_from_slice(&words[cap_at..mode_at]);
     for id in entry_ids {
         if has_mode.insert(id) {
-            out.extend_from_slice(&[(4 << 16) | OP_EXECUTION_MODE, id, MODE_SIGNED_ZERO_INF_NAN_PRESERVE, 32]);
+            out.extend_from_slice(&[(4 << 16) | OP_EXECUTION_MODE, id, mode, 32]);
         }
     }
     out.extend_from_slice(&words[mode_at..]);
@@ -288,6 +324,93 @@ pub fn no_contraction_coverage(words: &[u32]) -> Result<(usize, usize), String> 
         }
     }
     Ok((total, covered))
+}
+
+const OP_EXT_INST_IMPORT: u32 = 11;
+const OP_EXT_INST: u32 = 12;
+
+/// GLSL.std.450 instruction names, indexed by instruction number (1..=81).
+const GLSL_STD_450_NAMES: [&str; 82] = [
+    "?", "Round", "RoundEven", "Trunc", "FAbs", "SAbs", "FSign", "SSign", "Floor", "Ceil", "Fract",
+    "Radians", "Degrees", "Sin", "Cos", "Tan", "Asin", "Acos", "Atan", "Sinh", "Cosh", "Tanh",
+    "Asinh", "Acosh", "Atanh", "Atan2", "Pow", "Exp", "Log", "Exp2", "Log2", "Sqrt", "InverseSqrt",
+    "Determinant", "MatrixInverse", "Modf", "ModfStruct", "FMin", "UMin", "SMin", "FMax", "UMax",
+    "SMax", "FClamp", "UClamp", "SClamp", "FMix", "IMix", "Step", "SmoothStep", "Fma", "Frexp",
+    "FrexpStruct", "Ldexp", "PackSnorm4x8", "PackUnorm4x8", "PackSnorm2x16", "PackUnorm2x16",
+    "PackHalf2x16", "PackDouble2x32", "UnpackSnorm2x16", "UnpackUnorm2x16", "UnpackHalf2x16",
+    "UnpackSnorm4x8", "UnpackUnorm4x8", "UnpackDouble2x32", "Length", "Distance", "Cross",
+    "Normalize", "FaceForward", "Reflect", "Refract", "FindILsb", "FindSMsb", "FindUMsb",
+    "InterpolateAtCentroid", "InterpolateAtSample", "InterpolateAtOffset", "NMin", "NMax", "NClamp",
+];
+
+/// GLSL.std.450 instructions whose result the Vulkan spec fixes exactly: the table "Precision
+/// and Operation of SPIR-V Instructions" (Vulkan 1.3, chapter "Floating-Point Computation")
+/// lists them as exact or correctly rounded (rounding/truncation to integers, abs, sign, min, max,
+/// clamp, step, frexp, ldexp, modf and fract = x - floor(x) inherited from OpFSub), plus the
+/// integer-only ones (SAbs, SSign, U/S min/max/clamp, FindILsb/FindSMsb/FindUMsb).
+/// Everything else in the set (Sqrt, InverseSqrt, Fma, FMix, the transcendentals, Length,
+/// Normalize, Refract, ...) may be approximate, fused or evaluated in an unspecified order.
+pub const EXACT_GLSL_STD_450: [u32; 30] = [
+    1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 48, 51, 52, 53, 73, 74,
+    75, 79, 80,
+];
+
+/// Core SPIR-V float instructions that the same Vulkan table does not require correctly rounded:
+/// OpFDiv (2.5 ULP), OpFRem and OpFMod (inherited from the division), and the compound products
+/// whose summation order and contraction are unspecified (OpVectorTimesMatrix,
+/// OpMatrixTimesVector, OpMatrixTimesMatrix, OpOuterProduct, OpDot). Required correctly rounded
+/// (and therefore allowed): OpFAdd, OpFSub, OpFMul, OpFNegate, OpVectorTimesScalar,
+/// OpMatrixTimesScalar, the conversions, comparisons and bit casts.
+pub const INEXACT_CORE_FLOAT_OPCODES: [(u32, &str); 8] = [
+    (136, "OpFDiv"),
+    (140, "OpFRem"),
+    (141, "OpFMod"),
+    (144, "OpVectorTimesMatrix"),
+    (145, "OpMatrixTimesVector"),
+    (146, "OpMatrixTimesMatrix"),
+    (147, "OpOuterProduct"),
+    (148, "OpDot"),
+];
+
+/// Every instruction of the module whose float result a conformant Vulkan driver may compute
+/// inexactly (see [`INEXACT_CORE_FLOAT_OPCODES`], [`EXACT_GLSL_STD_450`]; any other extended
+/// instruction set except `NonSemantic.*` counts as inexact), as (name, count) sorted by name.
+/// Empty for a module whose float arithmetic is bit-exact on every conformant device.
+pub fn inexact_float_instructions(words: &[u32]) -> Result<Vec<(String, usize)>, String> {
+    let insts = instructions(words)?;
+    let mut sets = std::collections::HashMap::new();
+    for (op, r) in &insts {
+        if *op == OP_EXT_INST_IMPORT && r.len() >= 3 {
+            sets.insert(words[r.start + 1], spirv_string(&words[r.start + 2..r.end]));
+        }
+    }
+    let mut counts = std::collections::BTreeMap::<String, usize>::new();
+    for (op, r) in &insts {
+        if let Some((_, name)) = INEXACT_CORE_FLOAT_OPCODES.iter().find(|(o, _)| o == op) {
+            *counts.entry((*name).to_string()).or_default() += 1;
+        } else if *op == OP_EXT_INST && r.len() >= 5 {
+            let (set, inst) = (words[r.start + 3], words[r.start + 4]);
+            let set_name = sets.get(&set).map_or("?", |s| s.as_str());
+            let name = if set_name == "GLSL.std.450" {
+                if EXACT_GLSL_STD_450.contains(&inst) {
+                    continue;
+                }
+                format!("GLSL.std.450 {}", GLSL_STD_450_NAMES.get(inst as usize).unwrap_or(&"?"))
+            } else if set_name.starts_with("NonSemantic.") {
+                continue;
+            } else {
+                format!("{set_name} #{inst}")
+            };
+            *counts.entry(name).or_default() += 1;
+        }
+    }
+    Ok(counts.into_iter().collect())
+}
+
+/// A nul-terminated SPIR-V literal string.
+fn spirv_string(words: &[u32]) -> String {
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
+    String::from_utf8_lossy(&bytes).into_owned()
 }
 
 /// Little-endian bytes to SPIR-V words.
@@ -317,5 +440,43 @@ mod spirv_tests {
         assert_eq!(&out[8..14], &[(3 << 16) | 71, 3, 42, (3 << 16) | 71, 6, 42]);
         assert_eq!(decorate_no_contraction(&out).unwrap(), out, "idempotent");
         assert!(decorate_no_contraction(&[1, 2, 3]).is_err());
+    }
+
+    #[test]
+    fn declares_denorm_mode_on_every_entry_point() {
+        // header, OpCapability Shader, OpEntryPoint GLCompute %5 "a", OpEntryPoint GLCompute %6 "b"
+        let words = vec![
+            0x0723_0203, 0x0001_0500, 0, 10, 0,
+            (2 << 16) | 17, 1,
+            (4 << 16) | 15, 5, 5, u32::from_le_bytes(*b"a\0\0\0"),
+            (4 << 16) | 15, 5, 6, u32::from_le_bytes(*b"b\0\0\0"),
+        ];
+        let out = declare_denorm_mode(&words, DenormMode::Preserve).unwrap();
+        assert_eq!(&out[5..9], &[(2 << 16) | 17, 1, (2 << 16) | 17, 4464]);
+        assert_eq!(&out[out.len() - 8..], &[(4 << 16) | 16, 5, 4459, 32, (4 << 16) | 16, 6, 4459, 32]);
+        assert_eq!(declare_denorm_mode(&out, DenormMode::Preserve).unwrap(), out, "idempotent");
+        assert!(declare_denorm_mode(&out, DenormMode::FlushToZero).is_err());
+        let ftz = declare_denorm_mode(&words, DenormMode::FlushToZero).unwrap();
+        assert!(ftz.windows(4).any(|w| w == [(4 << 16) | 16, 5, 4460, 32]));
+    }
+
+    #[test]
+    fn lists_inexact_float_instructions_with_counts() {
+        // "GLSL.std.450" as a nul-terminated literal (12 chars + nul = 4 words).
+        let glsl = [u32::from_le_bytes(*b"GLSL"), u32::from_le_bytes(*b".std"), u32::from_le_bytes(*b".450"), 0];
+        let mut words = vec![0x0723_0203, 0x0001_0500, 0, 20, 0, (6 << 16) | 11, 1];
+        words.extend_from_slice(&glsl);
+        words.extend_from_slice(&[
+            (3 << 16) | 22, 2, 32,
+            (5 << 16) | 129, 2, 3, 4, 5, // OpFAdd: fine
+            (5 << 16) | 136, 2, 6, 3, 3, // OpFDiv
+            (5 << 16) | 136, 2, 7, 3, 3, // OpFDiv
+            (6 << 16) | 12, 2, 8, 1, 31, 3, // Sqrt
+            (6 << 16) | 12, 2, 9, 1, 4, 3, // FAbs: fine
+            (6 << 16) | 12, 2, 10, 1, 75, 3, // FindUMsb: fine
+        ]);
+        let got = inexact_float_instructions(&words).unwrap();
+        assert_eq!(got, vec![("GLSL.std.450 Sqrt".to_string(), 1), ("OpFDiv".to_string(), 2)]);
+        assert!(inexact_float_instructions(&[1, 2]).is_err());
     }
 }

@@ -238,6 +238,13 @@ fn build_module(
     let words = shader_manifest::preserve_signed_zero_inf_nan(&words).map_err(anyhow::Error::msg)?;
     let (total, covered) = shader_manifest::no_contraction_coverage(&words).map_err(anyhow::Error::msg)?;
     eprintln!("[build-shaders] NoContraction on {covered} of {total} float arithmetic instructions");
+    // Division, sqrt, FMA, transcendentals: not required correctly rounded by Vulkan
+    // (shader_core::ieee replaces them; host/tests/stale_shaders.rs fails on any).
+    let inexact = shader_manifest::inexact_float_instructions(&words).map_err(anyhow::Error::msg)?;
+    if !inexact.is_empty() {
+        let list: Vec<String> = inexact.iter().map(|(n, c)| format!("{n} x{c}")).collect();
+        eprintln!("[build-shaders] warning: float instructions Vulkan does not require exact: {}", list.join(", "));
+    }
     let spv: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let mut entry_points = result.entry_points.clone();
     entry_points.sort();

@@ -4,6 +4,7 @@
 //! visible normals (pdf = D_wo(wm) / (4 |wo.wm|), PBRT-v4 eq. 9.36). Effectively smooth alpha
 //! gives the Fresnel-weighted perfect mirror.
 
+use crate::ieee;
 use super::microfacet::TrowbridgeReitz;
 use super::{
     face_forward, is_zero, same_hemisphere, splat, unit_or_zero, BSDFSample, BxDF, GLOSSY_REFLECTION,
@@ -48,7 +49,7 @@ impl ConductorBxDF {
         let cos_o = wo.z.abs();
         let cos_i = wi.z.abs();
         let fr = fresnel::conductor_rgb(wo.dot(wm).abs(), self.eta, self.k);
-        let s = self.distrib.d(wm) * self.distrib.g(wo, wi) / (4.0 * cos_i * cos_o);
+        let s = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * cos_i * cos_o);
         fr * s
     }
 }
@@ -106,7 +107,7 @@ impl BxDF for ConductorBxDF {
         if !same_hemisphere(wo, wi) {
             return BSDFSample::NONE;
         }
-        let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs());
+        let pdf = ieee::div(self.distrib.pdf(wo, wm), 4.0 * wo.dot(wm).abs());
         let f = self.torrance_sparrow(wo, wi, wm);
         BSDFSample::new(f, wi, pdf, GLOSSY_REFLECTION, 1.0).checked()
     }
@@ -127,6 +128,6 @@ impl BxDF for ConductorBxDF {
             return 0.0;
         }
         let wm = face_forward(wm.normalize(), Vec3::Z);
-        self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs())
+        ieee::div(self.distrib.pdf(wo, wm), 4.0 * wo.dot(wm).abs())
     }
 }

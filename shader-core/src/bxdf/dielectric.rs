@@ -13,6 +13,7 @@
 //! Energy: with G2 = 1, integral of (f_R + f_T,importance) |cos_i| dwi = 1 exactly (the microsurface
 //! only splits energy by F, 1 - F).
 
+use crate::ieee;
 use super::microfacet::TrowbridgeReitz;
 use super::{
     face_forward, is_zero, same_hemisphere, unit_or_zero, BSDFSample, BxDF, GLOSSY, GLOSSY_REFLECTION,
@@ -62,7 +63,7 @@ impl DielectricBxDF {
         } else if cos_o > 0.0 {
             self.eta
         } else {
-            1.0 / self.eta
+            ieee::div(1.0, self.eta)
         };
         let none = HalfVector { wm: Vec3::ZERO, etap, reflect };
         let wm = wi * etap + wo;
@@ -123,12 +124,12 @@ impl BxDF for DielectricBxDF {
         let d = self.distrib.d(wm);
         let g = self.distrib.g(wo, wi);
         let v = if h.reflect == 1 {
-            d * g * fr / (4.0 * wi.z * wo.z).abs()
+            ieee::div(d * g * fr, (4.0 * wi.z * wo.z).abs())
         } else {
-            let s = wi.dot(wm) + wo.dot(wm) / h.etap;
+            let s = wi.dot(wm) + ieee::div(wo.dot(wm), h.etap);
             let denom = s * s * wi.z * wo.z;
-            let ft = d * (1.0 - fr) * g * (wi.dot(wm) * wo.dot(wm) / denom).abs();
-            let ft = if mode == MODE_RADIANCE { ft / (h.etap * h.etap) } else { ft };
+            let ft = d * (1.0 - fr) * g * (ieee::div(wi.dot(wm) * wo.dot(wm), denom)).abs();
+            let ft = if mode == MODE_RADIANCE { ieee::div(ft, h.etap * h.etap) } else { ft };
             // eta within ~1e-7 of 1 makes (wi.wm + wo.wm / eta')^2 round to 0 near wi = -wo (the
             // lobe tends to a delta): such non-finite values are dropped (documented).
             if ft < f32::INFINITY {
@@ -159,21 +160,21 @@ impl BxDF for DielectricBxDF {
             if pr == 0.0 && pt == 0.0 {
                 return BSDFSample::NONE;
             }
-            if uc < pr / (pr + pt) {
+            if uc < ieee::div(pr, pr + pt) {
                 let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-                let f = super::splat(r / wi.z.abs());
-                return BSDFSample::new(f, wi, pr / (pr + pt), SPECULAR_REFLECTION, 1.0).checked();
+                let f = super::splat(ieee::div(r, wi.z.abs()));
+                return BSDFSample::new(f, wi, ieee::div(pr, pr + pt), SPECULAR_REFLECTION, 1.0).checked();
             }
             let rf = fresnel::refract(wo, Vec3::Z, self.eta);
             if rf.valid == 0 {
                 return BSDFSample::NONE;
             }
             let wi = rf.wt;
-            let mut ft = t / wi.z.abs();
+            let mut ft = ieee::div(t, wi.z.abs());
             if mode == MODE_RADIANCE {
-                ft = ft / (rf.etap * rf.etap);
+                ft = ieee::div(ft, rf.etap * rf.etap);
             }
-            return BSDFSample::new(super::splat(ft), wi, pt / (pr + pt), SPECULAR_TRANSMISSION, rf.etap).checked();
+            return BSDFSample::new(super::splat(ft), wi, ieee::div(pt, pr + pt), SPECULAR_TRANSMISSION, rf.etap).checked();
         }
         // Rough interface: sample a visible normal first.
         let wm = self.distrib.sample_wm(wo, u0, u1);
@@ -183,13 +184,13 @@ impl BxDF for DielectricBxDF {
         if pr == 0.0 && pt == 0.0 {
             return BSDFSample::NONE;
         }
-        if uc < pr / (pr + pt) {
+        if uc < ieee::div(pr, pr + pt) {
             let wi = fresnel::reflect(wo, wm);
             if !same_hemisphere(wo, wi) {
                 return BSDFSample::NONE;
             }
-            let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * pr / (pr + pt);
-            let f = self.distrib.d(wm) * self.distrib.g(wo, wi) * r / (4.0 * wi.z * wo.z);
+            let pdf = ieee::div(ieee::div(self.distrib.pdf(wo, wm), 4.0 * wo.dot(wm).abs()) * pr, pr + pt);
+            let f = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi) * r, 4.0 * wi.z * wo.z);
             BSDFSample::new(super::splat(f), wi, pdf, GLOSSY_REFLECTION, 1.0).checked()
         } else {
             let rf = fresnel::refract(wo, wm, self.eta);
@@ -197,14 +198,14 @@ impl BxDF for DielectricBxDF {
             if rf.valid == 0 || same_hemisphere(wo, wi) || wi.z == 0.0 {
                 return BSDFSample::NONE;
             }
-            let s = wi.dot(wm) + wo.dot(wm) / rf.etap;
+            let s = wi.dot(wm) + ieee::div(wo.dot(wm), rf.etap);
             let denom = s * s;
-            let dwm_dwi = wi.dot(wm).abs() / denom;
-            let pdf = self.distrib.pdf(wo, wm) * dwm_dwi * pt / (pr + pt);
+            let dwm_dwi = ieee::div(wi.dot(wm).abs(), denom);
+            let pdf = ieee::div(self.distrib.pdf(wo, wm) * dwm_dwi * pt, pr + pt);
             let mut ft = t * self.distrib.d(wm) * self.distrib.g(wo, wi)
-                * (wi.dot(wm) * wo.dot(wm) / (wi.z * wo.z * denom)).abs();
+                * (ieee::div(wi.dot(wm) * wo.dot(wm), wi.z * wo.z * denom)).abs();
             if mode == MODE_RADIANCE {
-                ft = ft / (rf.etap * rf.etap);
+                ft = ieee::div(ft, rf.etap * rf.etap);
             }
             BSDFSample::new(super::splat(ft), wi, pdf, GLOSSY_TRANSMISSION, rf.etap).checked()
         }
@@ -233,11 +234,11 @@ impl BxDF for DielectricBxDF {
             return 0.0;
         }
         if h.reflect == 1 {
-            self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * pr / (pr + pt)
+            ieee::div(ieee::div(self.distrib.pdf(wo, wm), 4.0 * wo.dot(wm).abs()) * pr, pr + pt)
         } else {
-            let s = wi.dot(wm) + wo.dot(wm) / h.etap;
-            let dwm_dwi = wi.dot(wm).abs() / (s * s);
-            let p = self.distrib.pdf(wo, wm) * dwm_dwi * pt / (pr + pt);
+            let s = wi.dot(wm) + ieee::div(wo.dot(wm), h.etap);
+            let dwm_dwi = ieee::div(wi.dot(wm).abs(), s * s);
+            let p = ieee::div(self.distrib.pdf(wo, wm) * dwm_dwi * pt, pr + pt);
             // As in `f`: a density that rounds to infinity (eta -> 1) is dropped.
             if p < f32::INFINITY {
                 p

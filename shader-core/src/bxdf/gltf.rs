@@ -26,6 +26,7 @@
 //! Parameters are clamped to the spec's [0, 1] (base color per channel, metallic, roughness);
 //! NaN parameters give NaN outputs. Two-sided: wo below the surface reflects below.
 
+use crate::ieee;
 use super::microfacet::{roughness_to_alpha, TrowbridgeReitz};
 use super::{
     face_forward, is_zero, mean, same_hemisphere, splat, unit_or_zero, BSDFSample, BxDF, DIFFUSE,
@@ -94,7 +95,7 @@ impl GltfMetalRoughBxDF {
         let wd = (1.0 - m) * (1.0 - fd) * mean(self.base);
         let sum = ws + wd;
         if sum > 0.0 {
-            ws / sum
+            ieee::div(ws, sum)
         } else {
             1.0
         }
@@ -113,7 +114,7 @@ impl GltfMetalRoughBxDF {
         if self.distrib.effectively_smooth() {
             return (diffuse, Vec3::ZERO);
         }
-        let spec = self.distrib.d(wm) * self.distrib.g(wo, wi) / (4.0 * wi.z.abs() * wo.z.abs());
+        let spec = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * wi.z.abs() * wo.z.abs());
         let fm = fresnel::schlick_rgb(vdoth, self.base, splat(1.0));
         // (1 - metallic) F_d spec + metallic F_m spec
         let fspec = splat((1.0 - m) * fd) + fm * m;
@@ -127,7 +128,7 @@ impl GltfMetalRoughBxDF {
             return 0.0;
         }
         let wm = face_forward((wo + wi).normalize(), Vec3::Z);
-        self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs())
+        ieee::div(self.distrib.pdf(wo, wm), 4.0 * wo.dot(wm).abs())
     }
 
     /// Full f and mixture pdf for unit wo, wi (wo.z != 0), 0 when not on the same side.

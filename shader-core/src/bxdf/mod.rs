@@ -36,8 +36,8 @@ pub use gltf::GltfMetalRoughBxDF;
 pub use microfacet::TrowbridgeReitz;
 pub use specular::SpecularReflectionBxDF;
 
+use crate::ieee;
 use crate::vector::Vec3;
-use spirv_std::num_traits::Float;
 
 /// BxDF flag bits (PBRT-v4 `BxDFFlags`).
 pub const REFLECTION: u32 = 1;
@@ -164,7 +164,7 @@ pub fn unit_or_zero(v: Vec3) -> Vec3 {
         return Vec3::ZERO;
     }
     let s = v / m;
-    let len = Float::sqrt(s.length_squared());
+    let len = ieee::sqrt(s.length_squared());
     s / len
 }
 
@@ -196,7 +196,7 @@ pub fn is_zero(v: Vec3) -> bool {
 /// Mean of the three channels, (r + g + b) / 3.
 #[inline]
 pub fn mean(v: Vec3) -> f32 {
-    (v.x + v.y + v.z) / 3.0
+    ieee::div(v.x + v.y + v.z, 3.0)
 }
 
 /// A vector with all three components `s`.

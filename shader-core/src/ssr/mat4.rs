@@ -4,6 +4,7 @@
 //! Matrices are row-major and act on column vectors: `p' = M p`. Only constant indices are used
 //! (rows are named fields), as the project's rules require for rust-gpu.
 
+use crate::ieee;
 use crate::vector::Vec3;
 
 /// A homogeneous point or plane.
@@ -156,7 +157,7 @@ impl Mat4 {
         let c1 = c.x * d.z - d.x * c.z;
         let c0 = c.x * d.y - d.x * c.y;
         let det = s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
-        let k = 1.0 / det;
+        let k = ieee::div(1.0, det);
         let inv = Mat4 {
             r0: Vec4::new(
                 (b.y * c5 - b.z * c4 + b.w * c3) * k,

@@ -4,6 +4,7 @@
 //! Output texels are premultiplied: (rgb * opacity, opacity); a consumer composites
 //! `rgb + (1 - opacity) * fallback` (a reflection probe or the sky).
 
+use crate::ieee;
 use super::params::{mip_size, SsrParams};
 use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_STRIDE};
 use super::trace::info;
@@ -51,7 +52,7 @@ pub fn edge_of_screen_fade(u: f32, v: f32, fade_rcp_length: f32) -> f32 {
 #[inline]
 pub fn lambda_cos(c: f32, alpha: f32) -> f32 {
     let s2 = 1.0 - c * c;
-    let s = if s2 > 0.0 { Float::sqrt(s2) } else { 0.0 };
+    let s = if s2 > 0.0 { ieee::sqrt(s2) } else { 0.0 };
     masking::ggx_lambda(Vec3::new(s, 0.0, c), alpha, alpha)
 }
 
@@ -66,7 +67,7 @@ pub fn ssr_sample_weight(n: Vec3, v: Vec3, l: Vec3, alpha: f32) -> f32 {
     }
     let lambda_v_plus_one = lambda_cos(n.dot(v), alpha) + 1.0;
     let lambda_l = lambda_cos(nl, alpha);
-    lambda_v_plus_one / (lambda_v_plus_one + lambda_l)
+    ieee::div(lambda_v_plus_one, lambda_v_plus_one + lambda_l)
 }
 
 /// `a + (b - a) t`.
@@ -184,8 +185,8 @@ pub fn reproject_hit(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> (f32, f32
     let x = hx as u32;
     let y = hy as u32;
     let b = ((y * p.width + x) as usize) * GBUF_STRIDE;
-    let u = hx / p.width as f32 - gbuf[b + 6];
-    let v = hy / p.height as f32 - gbuf[b + 7];
+    let u = ieee::div(hx, p.width as f32) - gbuf[b + 6];
+    let v = ieee::div(hy, p.height as f32) - gbuf[b + 7];
     (u, v)
 }
 
@@ -216,7 +217,7 @@ pub(crate) fn store_resolved(p: &SsrParams, s: &Surface, acc: Vec3, acc_a: f32, 
         return;
     }
     let fade = perceptual_roughness_fade(s.perceptual_roughness, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);
-    let k = fade / acc_w;
+    let k = ieee::div(fade, acc_w);
     store(out, ob, acc * k, acc_a * k);
 }
 

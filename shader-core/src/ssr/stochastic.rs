@@ -4,6 +4,7 @@
 //! BRDF-weighted ratio-estimator resolve over a neighbourhood, filtered importance sampling from
 //! the colour pyramid, and temporal accumulation with history clamping.
 
+use crate::ieee;
 use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::resolve::{
     edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit, sample_color,
@@ -15,7 +16,6 @@ use crate::ndf;
 use crate::rng;
 use crate::vndf;
 use crate::vector::Vec3;
-use spirv_std::num_traits::Float;
 
 /// Tile edge in pixels.
 pub const TILE: u32 = 8;
@@ -223,7 +223,7 @@ pub fn emit_tile_rays(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty:
 #[inline]
 pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
     let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (s + n.z);
+    let a = ieee::div(-1.0, s + n.z);
     let b = n.x * n.y * a;
     let t = Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
     let bb = Vec3::new(b, s + n.y * n.y * a, -n.y);
@@ -235,7 +235,7 @@ pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
 #[inline]
 pub fn ggx_d_cos(c: f32, alpha: f32) -> f32 {
     let s2 = 1.0 - c * c;
-    let s = if s2 > 0.0 { Float::sqrt(s2) } else { 0.0 };
+    let s = if s2 > 0.0 { ieee::sqrt(s2) } else { 0.0 };
     ndf::ggx_d(Vec3::new(s, 0.0, c), alpha, alpha)
 }
 
@@ -382,10 +382,10 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x
                             // footprint diameter in pixels at the hit's screen distance. Written as
                             // (1/pi) / (pdf N): the form (1 / (pdf N)) * (1/pi) rounded differently
                             // on lavapipe (1 ULP in 0.2% of pixels; see docs/ssr.md).
-                            let tan_half = Float::sqrt(core::f32::consts::FRAC_1_PI / (r.pdf * rays_in_window));
+                            let tan_half = ieee::sqrt(ieee::div(core::f32::consts::FRAC_1_PI, r.pdf * rays_in_window));
                             let ddx = r.hx - s.origin.x;
                             let ddy = r.hy - s.origin.y;
-                            let dist_px = Float::sqrt(ddx * ddx + ddy * ddy);
+                            let dist_px = ieee::sqrt(ddx * ddx + ddy * ddy);
                             mip = maxf(0.0, log2_approx(2.0 * dist_px * tan_half));
                         }
                         let c = sample_color(p, color, u, v, mip);
@@ -437,8 +437,8 @@ pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, mirror: bool, l: Vec3, pdf: 
         return 0.0;
     }
     let h = (s.v + l).normalize_or_zero();
-    let g2 = 1.0 / (1.0 + lambda_cos(nv, alpha) + lambda_cos(nl, alpha));
-    let w = ggx_d_cos(s.n.dot(h), alpha) * g2 / (4.0 * nv) / pdf;
+    let g2 = ieee::div(1.0, 1.0 + lambda_cos(nv, alpha) + lambda_cos(nl, alpha));
+    let w = ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf);
     if w > 0.0 && w < f32::INFINITY {
         w
     } else {
@@ -464,7 +464,7 @@ pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Su
         if r.valid && r.hit {
             let hp = hit_position(p, gbuf, r.hx, r.hy);
             let d = hp - s.pos;
-            let len = Float::sqrt(d.dot(d));
+            let len = ieee::sqrt(d.dot(d));
             let l = if len > 0.0 { d / len } else { Vec3::ZERO };
             let w = ray_weight(s, alpha, nv, mirror, l, ray_pdf_at_hit(p, s, hp, r.pdf));
             acc_d += w * len;
@@ -472,7 +472,7 @@ pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Su
         }
     }
     if acc_w > 0.0 {
-        acc_d / acc_w
+        ieee::div(acc_d, acc_w)
     } else {
         0.0
     }
@@ -494,8 +494,8 @@ pub fn hit_distance_pixel(p: &SsrParams, gbuf: &[f32], rays: &[f32], x: u32, y: 
 /// previous camera.
 #[inline]
 pub fn virtual_image_uv(p: &SsrParams, s: &Surface, dist: f32) -> (f32, f32) {
-    let len = Float::sqrt(s.pos.dot(s.pos));
-    let virt = s.pos + s.pos * (dist / len);
+    let len = ieee::sqrt(s.pos.dot(s.pos));
+    let virt = s.pos + s.pos * (ieee::div(dist, len));
     let world = p.inv_view.transform_point(virt);
     // World to the previous view through the rigid inverse of prev_inv_view = [R | t]:
     // R^T (world - t) (the columns of R dotted with world - t).
@@ -508,7 +508,7 @@ pub fn virtual_image_uv(p: &SsrParams, s: &Surface, dist: f32) -> (f32, f32) {
     );
     let c = p.prev_proj.transform_point4(vp);
     if c.w > 0.0 {
-        (c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5)
+        (ieee::div(c.x, c.w) * 0.5 + 0.5, 0.5 - ieee::div(c.y, c.w) * 0.5)
     } else {
         (-1.0, -1.0)
     }
@@ -539,9 +539,9 @@ pub fn history_texel(p: &SsrParams, prev_gbuf: &[f32], history: &[f32], n_world:
     let normal_ok = !(p.history_normal_cos > -1.0) || np.dot(n_world) >= p.history_normal_cos;
     let zp_ok = zp > 0.0 && zp < f32::INFINITY;
     let z = if zp_ok { zp } else { 1.0 };
-    let ndc_x = (hx as f32 + 0.5) / p.width as f32 * 2.0 - 1.0;
-    let ndc_y = 1.0 - (hy as f32 + 0.5) / p.height as f32 * 2.0;
-    let vp = Vec3::new((ndc_x - p.prev_proj.r0.z) * z / p.prev_proj.r0.x, (ndc_y - p.prev_proj.r1.z) * z / p.prev_proj.r1.y, z);
+    let ndc_x = ieee::div(hx as f32 + 0.5, p.width as f32) * 2.0 - 1.0;
+    let ndc_y = 1.0 - ieee::div(hy as f32 + 0.5, p.height as f32) * 2.0;
+    let vp = Vec3::new(ieee::div((ndc_x - p.prev_proj.r0.z) * z, p.prev_proj.r0.x), ieee::div((ndc_y - p.prev_proj.r1.z) * z, p.prev_proj.r1.y), z);
     let wp = p.prev_inv_view.transform_point(vp);
     let plane = n_world.dot(wp - p_world);
     let depth_ok = !(p.history_depth_tolerance > 0.0) || (zp_ok && plane.abs() <= p.history_depth_tolerance * depth);
@@ -590,8 +590,8 @@ pub fn temporal_pixel(
     let dist = if p.temporal_reprojection == REPROJECT_HIT { load(hit_distance, i) } else { 0.0 };
     let (hu, hv) = virtual_image_uv(p, &s, dist);
     let th = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, hu, hv);
-    let pu = (x as f32 + 0.5) / p.width as f32 - load(gbuf, gi + 6);
-    let pv = (y as f32 + 0.5) / p.height as f32 - load(gbuf, gi + 7);
+    let pu = ieee::div(x as f32 + 0.5, p.width as f32) - load(gbuf, gi + 6);
+    let pv = ieee::div(y as f32 + 0.5, p.height as f32) - load(gbuf, gi + 7);
     let ts = history_texel(p, prev_gbuf, history, n_world, p_world, s.pos.z, s.perceptual_roughness, pu, pv);
     let use_hit = p.temporal_reprojection == REPROJECT_HIT && s.valid && dist > 0.0 && th != NO_HISTORY;
     let found = geometry && (use_hit || ts != NO_HISTORY);
@@ -636,7 +636,7 @@ pub fn temporal_pixel(
     );
     let ha = clampf(load(history, hb + 3), lo_a, hi_a);
     let n1 = n + 1.0;
-    let w = maxf(1.0 / n1, p.temporal_alpha);
+    let w = maxf(ieee::div(1.0, n1), p.temporal_alpha);
     store(out, ob, h.x + (cur.x - h.x) * w);
     store(out, ob + 1, h.y + (cur.y - h.y) * w);
     store(out, ob + 2, h.z + (cur.z - h.z) * w);

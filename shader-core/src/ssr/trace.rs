@@ -9,6 +9,7 @@
 //! `_SsrThicknessScale = 1 / (1 + thickness)`, bias 0 for an infinite far plane), so a point is
 //! "inside" a surface when it lies behind it by at most `thickness` times its linear depth.
 
+use crate::ieee;
 use super::params::{mip_size, SsrParams, FLAG_BACKFACE_REJECT, FLAG_STOCHASTIC};
 use crate::vector::Vec3;
 
@@ -117,17 +118,17 @@ pub fn floor_index(x: f32, hi: u32) -> u32 {
 /// Device depth d = near / z of a linear depth z (0 for the sky, z = +inf).
 #[inline]
 pub fn device_depth(p: &SsrParams, z: f32) -> f32 {
-    p.near / z
+    ieee::div(p.near, z)
 }
 
 /// View-space position of screen point (sx, sy) at linear depth z (inverse of the projection
 /// described in [`super::params`]).
 #[inline]
 pub fn view_position(p: &SsrParams, sx: f32, sy: f32, z: f32) -> Vec3 {
-    let ndc_x = sx / p.width as f32 * 2.0 - 1.0;
-    let ndc_y = 1.0 - sy / p.height as f32 * 2.0;
-    let x = (ndc_x - p.proj.r0.z) * z / p.proj.r0.x;
-    let y = (ndc_y - p.proj.r1.z) * z / p.proj.r1.y;
+    let ndc_x = ieee::div(sx, p.width as f32) * 2.0 - 1.0;
+    let ndc_y = 1.0 - ieee::div(sy, p.height as f32) * 2.0;
+    let x = ieee::div((ndc_x - p.proj.r0.z) * z, p.proj.r0.x);
+    let y = ieee::div((ndc_y - p.proj.r1.z) * z, p.proj.r1.y);
     Vec3::new(x, y, z)
 }
 
@@ -135,12 +136,12 @@ pub fn view_position(p: &SsrParams, sx: f32, sy: f32, z: f32) -> Vec3 {
 #[inline]
 pub fn project(p: &SsrParams, v: Vec3) -> Vec3 {
     let c = p.proj.transform_point4(v);
-    let ndc_x = c.x / c.w;
-    let ndc_y = c.y / c.w;
+    let ndc_x = ieee::div(c.x, c.w);
+    let ndc_y = ieee::div(c.y, c.w);
     Vec3::new(
         (ndc_x * 0.5 + 0.5) * p.width as f32,
         (0.5 - ndc_y * 0.5) * p.height as f32,
-        c.z / c.w,
+        ieee::div(c.z, c.w),
     )
 }
 
@@ -179,7 +180,7 @@ pub fn reflect(v: Vec3, n: Vec3) -> Vec3 {
 /// in front of the camera; any such point spans the same projected line). Zero components of the
 /// direction are replaced by a tiny positive value so the reciprocal is finite.
 pub fn screen_ray(p: &SsrParams, s: &Surface, r: Vec3) -> (Vec3, Vec3) {
-    let k = if r.z < 0.0 { minf(1.0, 0.5 * s.pos.z / -r.z) } else { 1.0 };
+    let k = if r.z < 0.0 { minf(1.0, ieee::div(0.5 * s.pos.z, -r.z)) } else { 1.0 };
     let end = project(p, s.pos + r * k);
     let mut dir = end - s.origin;
     if dir.x == 0.0 {
@@ -251,7 +252,7 @@ use spirv_std::num_traits::Float;
 /// surface's slab at mip 0 and then lands inside a slab is a miss (HDRP's rule), and so is a hit
 /// on the sky.
 pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, max_iter: u32) -> TraceHit {
-    let rcp = Vec3::new(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
+    let rcp = Vec3::new(ieee::div(1.0, dir.x), ieee::div(1.0, dir.y), ieee::div(1.0, dir.z));
     let step_x: u32 = if rcp.x >= 0.0 { 1 } else { 0 };
     let step_y: u32 = if rcp.y >= 0.0 { 1 } else { 0 };
     let sign_x: f32 = if rcp.x >= 0.0 { 1.0 } else { -1.0 };
@@ -322,14 +323,14 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
 /// step (it crossed the surface during the step: without this a coarse march steps over the thin
 /// slabs; with it, rays passing behind foreground objects hit their silhouettes).
 pub fn trace_linear(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, steps: u32, crossing: bool) -> TraceHit {
-    let rcp = Vec3::new(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
+    let rcp = Vec3::new(ieee::div(1.0, dir.x), ieee::div(1.0, dir.y), ieee::div(1.0, dir.z));
     let t_max = ray_t_max(p, o, rcp);
     let t0 = ray_t_start(rcp);
     let mut out = TraceHit::default();
     if !(t_max > t0) || steps == 0 {
         return out;
     }
-    let dt = (t_max - t0) / steps as f32;
+    let dt = ieee::div(t_max - t0, steps as f32);
     let mut i: u32 = 1;
     while i <= steps {
         let t = t0 + dt * i as f32;
@@ -356,7 +357,7 @@ pub fn trace_linear(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, steps: u32, 
 /// mip-0 hit rules (crossing the surface inside the cell, or entering it inside its slab; entering
 /// a slab from behind a previous one is a miss). The oracle the Hi-Z tracer is tested against.
 pub fn trace_brute_force(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3) -> TraceHit {
-    let rcp = Vec3::new(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
+    let rcp = Vec3::new(ieee::div(1.0, dir.x), ieee::div(1.0, dir.y), ieee::div(1.0, dir.z));
     let step_x: u32 = if rcp.x >= 0.0 { 1 } else { 0 };
     let step_y: u32 = if rcp.y >= 0.0 { 1 } else { 0 };
     let sign_x: f32 = if rcp.x >= 0.0 { 1.0 } else { -1.0 };
