@@ -15,6 +15,8 @@ fn main() {
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::MANIFEST_PATH).display());
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::SUBGROUP_SPV_PATH).display());
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::SUBGROUP_MANIFEST_PATH).display());
+    println!("cargo:rerun-if-changed={}", root.join(shader_manifest::NATIVE_SPV_PATH).display());
+    println!("cargo:rerun-if-changed={}", root.join(shader_manifest::NATIVE_MANIFEST_PATH).display());
     // Copy the committed SPIR-V and manifest into OUT_DIR (empty files when missing) so the
     // binary embeds them and a missing build is reported at run time, not as a compile error.
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").unwrap());
@@ -23,6 +25,8 @@ fn main() {
         (shader_manifest::MANIFEST_PATH, "shader-kernels.json"),
         (shader_manifest::SUBGROUP_SPV_PATH, "shader-kernels-subgroup.spv"),
         (shader_manifest::SUBGROUP_MANIFEST_PATH, "shader-kernels-subgroup.json"),
+        (shader_manifest::NATIVE_SPV_PATH, "shader-kernels-native.spv"),
+        (shader_manifest::NATIVE_MANIFEST_PATH, "shader-kernels-native.json"),
     ] {
         let bytes = std::fs::read(root.join(src)).unwrap_or_default();
         std::fs::write(out.join(dst), bytes).unwrap();

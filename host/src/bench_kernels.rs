@@ -15,7 +15,8 @@
 //! with a fixed seed, so two runs time the same work.
 
 use crate::backend::{Backend, DeviceChoice};
-use crate::gpu::{groups_2d, OutputSpec};
+use crate::gpu::{groups_2d, GpuContext, OutputSpec};
+use crate::shaders::DivSqrt;
 use crate::timing::{cpu_model, load_average};
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
@@ -61,14 +62,22 @@ pub struct KernelRow {
     pub cpu_one_thread_rate: f64,
     /// cpu_rate / cpu_one_thread_rate.
     pub cpu_scaling: f64,
+    /// The default module: division and square root by `shader_core::ieee` (exact anywhere).
     pub gpu_rate: Option<f64>,
     pub gpu_median_rate: Option<f64>,
     pub gpu_timing: Option<String>,
-    /// Seconds the driver took to create this entry point's pipeline.
+    /// Seconds the driver took to create this entry point's pipeline (default module).
     pub gpu_compile_seconds: Option<f64>,
+    /// The "native" module (`OpFDiv` / `Sqrt`; `HOST_DIV_SQRT=native`), same adapter, same rows.
+    pub gpu_native_rate: Option<f64>,
+    pub gpu_native_compile_seconds: Option<f64>,
+    /// gpu_native_rate / gpu_rate: what exact division and square root cost.
+    pub exact_slowdown: Option<f64>,
     pub wgsl_rate: Option<f64>,
-    /// gpu_rate / wgsl_rate.
+    /// gpu_native_rate / wgsl_rate (both with the driver's division and square root).
     pub rust_gpu_over_wgsl: Option<f64>,
+    /// gpu_rate / wgsl_rate (the default, exact module).
+    pub exact_over_wgsl: Option<f64>,
 }
 
 /// The whole report, as written to JSON.
@@ -190,6 +199,16 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     };
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
+    // Both builds of the main module on the same adapter: the exact one (default) and the native.
+    let (gpu, native) = match gpu {
+        Some(Backend::Gpu(g)) => {
+            let exact = crate::shaders::load_variant(DivSqrt::Exact).map_err(anyhow::Error::msg)?;
+            let native = crate::shaders::load_variant(DivSqrt::Native).map_err(anyhow::Error::msg)?;
+            let g = if g.div_sqrt == DivSqrt::Exact { g } else { Box::new(GpuContext::new(&exact)?) };
+            (Some(Backend::Gpu(g)), Some(Backend::Gpu(Box::new(GpuContext::new(&native)?))))
+        }
+        other => (other, None),
+    };
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().context("creating a one-thread pool")?;
     let rows = a.rows as usize;
     let pb = indicatif::ProgressBar::new(selected.len() as u64);
@@ -215,8 +234,12 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
             gpu_median_rate: None,
             gpu_timing: None,
             gpu_compile_seconds: None,
+            gpu_native_rate: None,
+            gpu_native_compile_seconds: None,
+            exact_slowdown: None,
             wgsl_rate: None,
             rust_gpu_over_wgsl: None,
+            exact_over_wgsl: None,
         };
         if let Some(Backend::Gpu(g)) = &gpu {
             row.gpu_compile_seconds = Some(g.prepare(f.entry, 2, 1)?);
@@ -225,10 +248,17 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
             row.gpu_rate = Some(r);
             row.gpu_median_rate = Some(m);
             row.gpu_timing = Some(src);
-            if let Some(entry) = wgsl_entry(f.name) {
-                let (w, _) = time_wgsl(g, entry, f, &input, rows, a.repeats).with_context(|| format!("timing the WGSL {}", f.name))?;
-                row.wgsl_rate = Some(w);
-                row.rust_gpu_over_wgsl = Some(r / w);
+            if let Some(Backend::Gpu(n)) = &native {
+                row.gpu_native_compile_seconds = Some(n.prepare(f.entry, 2, 1)?);
+                let (nr, _, _) = time_eval(native.as_ref().expect("native"), f, &input, rows, a.repeats).with_context(|| format!("timing {} (native module)", f.name))?;
+                row.gpu_native_rate = Some(nr);
+                row.exact_slowdown = Some(nr / r);
+                if let Some(entry) = wgsl_entry(f.name) {
+                    let (w, _) = time_wgsl(n, entry, f, &input, rows, a.repeats).with_context(|| format!("timing the WGSL {}", f.name))?;
+                    row.wgsl_rate = Some(w);
+                    row.rust_gpu_over_wgsl = Some(nr / w);
+                    row.exact_over_wgsl = Some(r / w);
+                }
             }
         }
         out.push(row);
@@ -276,21 +306,35 @@ pub fn markdown(r: &KernelReport) -> String {
         r.rows,
         r.repeats
     );
-    let _ = writeln!(s, "| function | CPU M/s | CPU 1-thread M/s | CPU scaling | GPU M/s | GPU median M/s | GPU compile ms | WGSL M/s | rust-gpu / WGSL |");
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        s,
+        "GPU = the default module (division and square root by `shader_core::ieee`, exact on any conformant device); \
+         GPU native = the same kernels with `OpFDiv`/`Sqrt` (`HOST_DIV_SQRT=native`); exact cost = native rate / GPU rate. \
+         WGSL = a hand-written kernel of the same formula (`host/src/wgsl/reference.wgsl`, naga, the driver's division); \
+         rust-gpu / WGSL compares the native module with it, exact / WGSL the default one. Compile = pipeline creation \
+         (the driver's compile of that entry point). M/s = 10^6 evaluations per second.\n"
+    );
+    let _ = writeln!(s, "| function | CPU M/s | CPU 1-thread M/s | CPU scaling | GPU M/s | GPU median M/s | GPU compile ms | GPU native M/s | native compile ms | exact cost | WGSL M/s | rust-gpu / WGSL | exact / WGSL |");
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let ms = |c: Option<f64>| c.map_or("-".into(), |c| format!("{:.0}", c * 1e3));
+    let x = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.2}"));
     for k in &r.functions {
         let _ = writeln!(
             s,
-            "| {} | {:.1} | {:.1} | {:.2} | {} | {} | {} | {} | {} |",
+            "| {} | {:.1} | {:.1} | {:.2} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             k.name,
             k.cpu_rate / 1e6,
             k.cpu_one_thread_rate / 1e6,
             k.cpu_scaling,
             rate(k.gpu_rate),
             rate(k.gpu_median_rate),
-            k.gpu_compile_seconds.map_or("-".into(), |c| format!("{:.0}", c * 1e3)),
+            ms(k.gpu_compile_seconds),
+            rate(k.gpu_native_rate),
+            ms(k.gpu_native_compile_seconds),
+            x(k.exact_slowdown),
             rate(k.wgsl_rate),
-            k.rust_gpu_over_wgsl.map_or("-".into(), |x| format!("{x:.2}")),
+            x(k.rust_gpu_over_wgsl),
+            x(k.exact_over_wgsl),
         );
     }
     s

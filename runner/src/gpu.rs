@@ -41,6 +41,8 @@ pub struct GpuContext {
     /// fp32 denormal mode declared in the loaded SPIR-V (crate::float_controls).
     pub denorm_policy: crate::float_controls::DenormPolicy,
     module: wgpu::ShaderModule,
+    /// Which build of the main module is loaded (exact or native division / square root).
+    pub div_sqrt: crate::shaders::DivSqrt,
     /// The main module's entry points (from its manifest).
     entry_points: Vec<String>,
     /// The subgroup module and its entry points, where the adapter has subgroup operations.
@@ -184,6 +186,7 @@ impl GpuContext {
             denorm_policy,
             module,
             entry_points: shader.manifest.entry_points.clone(),
+            div_sqrt: shader.div_sqrt,
             subgroup_module,
             extra_modules: Mutex::new(Vec::new()),
             pipelines: Mutex::new(HashMap::new()),
@@ -194,13 +197,14 @@ impl GpuContext {
     /// One line naming the adapter, driver and how shaders and timings are handled.
     pub fn describe(&self) -> String {
         format!(
-            "{} ({:?}, driver {} {}); SPIR-V {}{}; timings from {}; {}",
+            "{} ({:?}, driver {} {}); SPIR-V {}{}; {}; timings from {}; {}",
             self.info.name,
             self.info.device_type,
             self.info.driver,
             self.info.driver_info,
             if self.passthrough { "passed through unchanged" } else { "translated by naga" },
             if self.subgroup_module.is_some() { ", subgroup kernels loaded" } else { ", no subgroup kernels" },
+            self.div_sqrt.describe(),
             if self.timestamps { "timestamp queries" } else { "wall clock" },
             self.denorm_policy.describe()
         )

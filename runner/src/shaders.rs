@@ -9,6 +9,9 @@ pub const MANIFEST_JSON: &str = include_str!(concat!(env!("OUT_DIR"), "/shader-k
 /// The subgroup module (kernels that need subgroup operations) and its manifest.
 pub const SUBGROUP_SPV_BYTES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/shader-kernels-subgroup.spv"));
 pub const SUBGROUP_MANIFEST_JSON: &str = include_str!(concat!(env!("OUT_DIR"), "/shader-kernels-subgroup.json"));
+/// The "native" variant of the main module (native `OpFDiv` / `Sqrt`) and its manifest.
+pub const NATIVE_SPV_BYTES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/shader-kernels-native.spv"));
+pub const NATIVE_MANIFEST_JSON: &str = include_str!(concat!(env!("OUT_DIR"), "/shader-kernels-native.json"));
 /// Hash of the shader sources this binary was compiled from (see `shader-manifest`).
 pub const SOURCE_HASH: &str = env!("SHADER_SOURCE_HASH");
 
@@ -18,11 +21,54 @@ pub const SOURCE_HASH: &str = env!("SHADER_SOURCE_HASH");
 pub struct ShaderModule {
     pub words: Vec<u32>,
     pub manifest: Manifest,
+    /// How its kernels divide and take square roots.
+    pub div_sqrt: DivSqrt,
 }
 
-/// Load and check the embedded module against [`SOURCE_HASH`].
+/// The two builds of the main module, from the same sources (`shader_core::ieee::EXACT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DivSqrt {
+    /// `shader_core::ieee`'s correctly rounded software routines: the same bits as the CPU on
+    /// any conformant Vulkan device. The default.
+    Exact,
+    /// The native `OpFDiv` / GLSL.std.450 `Sqrt`: faster, correctly rounded on lavapipe, up to
+    /// 2.5 ULP off on other drivers (`HOST_DIV_SQRT=native`).
+    Native,
+}
+
+impl DivSqrt {
+    /// The variant `HOST_DIV_SQRT` asks for: unset, empty or `exact` -> [`DivSqrt::Exact`],
+    /// `native` -> [`DivSqrt::Native`], anything else an error naming the allowed values.
+    pub fn from_env() -> Result<DivSqrt, String> {
+        match std::env::var("HOST_DIV_SQRT").as_deref() {
+            Err(_) | Ok("") | Ok("exact") => Ok(DivSqrt::Exact),
+            Ok("native") => Ok(DivSqrt::Native),
+            Ok(other) => Err(format!("HOST_DIV_SQRT={other:?} is not a division/square-root variant: use exact (default) or native")),
+        }
+    }
+
+    /// One phrase for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            DivSqrt::Exact => "div/sqrt exact (shader_core::ieee software routines)",
+            DivSqrt::Native => "div/sqrt native (OpFDiv/Sqrt, HOST_DIV_SQRT=native: exact only where the driver rounds them correctly)",
+        }
+    }
+}
+
+/// Load and check the embedded main module of the variant `HOST_DIV_SQRT` selects.
 pub fn load() -> Result<ShaderModule, String> {
-    load_checked(SPV_BYTES, MANIFEST_JSON, SOURCE_HASH)
+    load_variant(DivSqrt::from_env()?)
+}
+
+/// Load and check the embedded main module of variant `v` against [`SOURCE_HASH`].
+pub fn load_variant(v: DivSqrt) -> Result<ShaderModule, String> {
+    let mut m = match v {
+        DivSqrt::Exact => load_checked(SPV_BYTES, MANIFEST_JSON, SOURCE_HASH)?,
+        DivSqrt::Native => load_checked(NATIVE_SPV_BYTES, NATIVE_MANIFEST_JSON, SOURCE_HASH).map_err(|e| format!("native module: {e}"))?,
+    };
+    m.div_sqrt = v;
+    Ok(m)
 }
 
 /// Load and check the embedded subgroup module against [`SOURCE_HASH`].
@@ -56,5 +102,5 @@ pub fn load_checked(spv: &[u8], manifest_json: &str, source_hash: &str) -> Resul
     if words[0] != 0x0723_0203 {
         return Err(format!("{SPV_PATH} does not start with the SPIR-V magic number"));
     }
-    Ok(ShaderModule { words, manifest })
+    Ok(ShaderModule { words, manifest, div_sqrt: DivSqrt::Exact })
 }

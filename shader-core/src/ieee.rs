@@ -25,11 +25,13 @@
 //! root on all 2^32 bit patterns and [`div_soft`] with the native `/` on structured and random pairs
 //! (docs/exactness.md).
 
-/// `true`: in the SPIR-V build [`div`] and [`sqrt`] are the software routines [`div_soft`] and
-/// [`sqrt_soft`] (bit-exact on any conformant Vulkan device). `false`: they are `OpFDiv` and
-/// GLSL.std.450 `Sqrt` (exact on lavapipe, approximate on other GPUs); only for measuring the
-/// cost (docs/exactness.md).
-pub const EXACT: bool = true;
+/// The one switch: `true` (default): in the SPIR-V build [`div`] and [`sqrt`] are the software
+/// routines [`div_soft`] and [`sqrt_soft`] (bit-exact on any conformant Vulkan device). `false`
+/// (feature `native-div-sqrt`, the second "native" module `cargo xtask build-shaders` writes):
+/// they are `OpFDiv` and GLSL.std.450 `Sqrt`, correctly rounded on lavapipe but only to 2.5 / ~2
+/// ULP on other drivers; the runner loads that module when asked (`HOST_DIV_SQRT=native`) and
+/// says so (docs/exactness.md).
+pub const EXACT: bool = !cfg!(feature = "native-div-sqrt");
 
 /// `true`: the CPU build runs the software routines too. Off by default: x86-64 `divss` and
 /// `sqrtss` give the same bits (proven in `shader-core/tests/ieee_exhaustive.rs`) 6-7 times

@@ -17,7 +17,12 @@ pub const MANIFEST_PATH: &str = "runner/shaders/shader-kernels.json";
 pub const SUBGROUP_SPV_PATH: &str = "runner/shaders/shader-kernels-subgroup.spv";
 /// Its manifest.
 pub const SUBGROUP_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-subgroup.json";
-/// The command that rebuilds both.
+/// The "native" variant of the main module (`native-div-sqrt` feature: `OpFDiv` / `Sqrt` instead
+/// of `shader_core::ieee`'s software routines), loaded only with `HOST_DIV_SQRT=native`.
+pub const NATIVE_SPV_PATH: &str = "runner/shaders/shader-kernels-native.spv";
+/// Its manifest.
+pub const NATIVE_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-native.json";
+/// The command that rebuilds all three.
 pub const REBUILD_COMMAND: &str = "cargo xtask build-shaders";
 
 /// Every file of the shader crates that feeds the SPIR-V, as paths relative to `root`, sorted.

@@ -3,7 +3,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use cargo_gpu_install::spirv_builder::Capability;
-use shader_manifest::{Manifest, MANIFEST_PATH, SPV_PATH, SUBGROUP_MANIFEST_PATH, SUBGROUP_SPV_PATH};
+use shader_manifest::{Manifest, MANIFEST_PATH, NATIVE_MANIFEST_PATH, NATIVE_SPV_PATH, SPV_PATH, SUBGROUP_MANIFEST_PATH, SUBGROUP_SPV_PATH};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -180,6 +180,9 @@ fn build_shaders(check: bool) -> Result<()> {
     );
 
     build_module(&backend, &root, &shader_crate, &[], &[], SPV_PATH, MANIFEST_PATH, "spirv-builder", check)?;
+    // The same kernels with native OpFDiv / Sqrt (shader_core::ieee::EXACT = false), for the
+    // speed comparison and drivers known to round them correctly (docs/exactness.md).
+    build_module(&backend, &root, &shader_crate, &["native-div-sqrt"], &[], NATIVE_SPV_PATH, NATIVE_MANIFEST_PATH, "spirv-builder-native", check)?;
     // The subgroup module: only the kernels that need subgroup operations, with their capabilities
     // (a device without them could not load a module declaring them; see shader-kernels/src/lib.rs).
     build_module(
@@ -241,7 +244,7 @@ fn build_module(
     // Division, sqrt, FMA, transcendentals: not required correctly rounded by Vulkan
     // (shader_core::ieee replaces them; host/tests/stale_shaders.rs fails on any).
     let inexact = shader_manifest::inexact_float_instructions(&words).map_err(anyhow::Error::msg)?;
-    if !inexact.is_empty() {
+    if !inexact.is_empty() && !features.contains(&"native-div-sqrt") {
         let list: Vec<String> = inexact.iter().map(|(n, c)| format!("{n} x{c}")).collect();
         eprintln!("[build-shaders] warning: float instructions Vulkan does not require exact: {}", list.join(", "));
     }
