@@ -15,6 +15,7 @@
 //! `sample_vndf_caps`, `sample_vndf_bounded`), each returning wo = reflect(wi, wm) with its density
 //! on the sphere, and the matching `pdf_*`; their own conventions are stated above `ReflectionSample`.
 
+use crate::fresnel::reflect;
 use crate::ieee;
 use crate::masking;
 use crate::math;
@@ -108,12 +109,6 @@ fn reflection_input_valid(wi: Vec3, alpha_x: f32, alpha_y: f32) -> bool {
         && wi.length_squared() > 0.0
 }
 
-/// Mirror reflection of `wi` about the unit normal `wm`: 2 (wi.wm) wm - wi (both away from the surface).
-#[inline]
-fn reflect(wi: Vec3, wm: Vec3) -> Vec3 {
-    let d2 = 2.0 * wi.dot(wm);
-    Vec3::new(d2 * wm.x - wi.x, d2 * wm.y - wi.y, d2 * wm.z - wi.z)
-}
 
 /// (sin, cos) of 2 pi u through the project's deterministic [`crate::math`].
 #[inline]

@@ -48,8 +48,8 @@ impl ConductorBxDF {
     fn torrance_sparrow(&self, wo: Vec3, wi: Vec3, wm: Vec3) -> Vec3 {
         let cos_o = wo.z.abs();
         let cos_i = wi.z.abs();
-        let fr = fresnel::conductor_rgb(wo.dot(wm).abs(), self.eta, self.k);
-        let s = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * cos_i * cos_o);
+        let fr = fresnel::conductor_rgb(super::half_vector_cos(wo, wi, wm).abs(), self.eta, self.k);
+        let s = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * (cos_i * cos_o));
         fr * s
     }
 }

@@ -120,11 +120,12 @@ impl BxDF for DielectricBxDF {
             return Vec3::ZERO;
         }
         let wm = h.wm;
-        let fr = fresnel::dielectric(wo.dot(wm), self.eta);
+        // Reflection: the symmetric half-angle cosine (reciprocal to the bit); refraction: wo.wm.
+        let fr = fresnel::dielectric(if h.reflect == 1 { super::half_vector_cos(wo, wi, wm) } else { wo.dot(wm) }, self.eta);
         let d = self.distrib.d(wm);
         let g = self.distrib.g(wo, wi);
         let v = if h.reflect == 1 {
-            ieee::div(d * g * fr, (4.0 * wi.z * wo.z).abs())
+            ieee::div(d * g * fr, (4.0 * (wi.z * wo.z)).abs())
         } else {
             let s = wi.dot(wm) + ieee::div(wo.dot(wm), h.etap);
             let denom = s * s * wi.z * wo.z;

@@ -106,7 +106,7 @@ impl GltfMetalRoughBxDF {
     #[inline]
     fn lobes(&self, wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
         let wm = face_forward((wo + wi).normalize(), Vec3::Z);
-        let vdoth = wo.dot(wm).abs();
+        let vdoth = super::half_vector_cos(wo, wi, wm).abs();
         let m = self.metallic;
         let fd = fresnel::schlick(vdoth, Self::dielectric_f0(), 1.0);
         // (1 - metallic) (1 - F_d) base / pi
@@ -114,7 +114,7 @@ impl GltfMetalRoughBxDF {
         if self.distrib.effectively_smooth() {
             return (diffuse, Vec3::ZERO);
         }
-        let spec = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * wi.z.abs() * wo.z.abs());
+        let spec = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * (wi.z.abs() * wo.z.abs()));
         let fm = fresnel::schlick_rgb(vdoth, self.base, splat(1.0));
         // (1 - metallic) F_d spec + metallic F_m spec
         let fspec = splat((1.0 - m) * fd) + fm * m;

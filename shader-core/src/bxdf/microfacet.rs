@@ -2,7 +2,6 @@
 //! `TrowbridgeReitzDistribution`, section 9.6): D from [`crate::ndf::ggx_d`], Lambda and G1 from
 //! [`crate::masking`], the height-correlated G, and visible-normal sampling from [`crate::vndf`].
 
-use crate::ieee;
 use crate::masking;
 use crate::ndf;
 use crate::vector::Vec3;
@@ -58,7 +57,7 @@ impl TrowbridgeReitz {
     /// PBRT-v4 eq. 9.27). Lambda = inf at grazing gives 0.
     #[inline]
     pub fn g(&self, wo: Vec3, wi: Vec3) -> f32 {
-        ieee::div(1.0, 1.0 + self.lambda(wo) + self.lambda(wi))
+        masking::g2_height_correlated_from_lambda(self.lambda(wo), self.lambda(wi))
     }
 
     /// Visible-normal density D_w(wm) (PBRT-v4 eq. 9.23), [`vndf::ggx_visible_pdf`].

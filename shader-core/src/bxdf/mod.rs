@@ -137,6 +137,14 @@ pub fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
     a.z * b.z > 0.0
 }
 
+/// The cosine between a reflection half vector `wm` and the directions, |wo.wm| = |wi.wm| in
+/// exact arithmetic, evaluated symmetrically as the mean of the two rounded dot products so that
+/// every BxDF `f` using it is reciprocal to the bit (PBRT-v4 eq. 9.33 evaluates |wo.wm|).
+#[inline]
+pub fn half_vector_cos(wo: Vec3, wi: Vec3, wm: Vec3) -> f32 {
+    0.5 * (wo.dot(wm) + wi.dot(wm))
+}
+
 /// `v` flipped, if needed, into the hemisphere of `n` (PBRT `FaceForward`: dot(v, n) < 0 -> -v).
 #[inline]
 pub fn face_forward(v: Vec3, n: Vec3) -> Vec3 {

@@ -437,7 +437,7 @@ pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, mirror: bool, l: Vec3, pdf: 
         return 0.0;
     }
     let h = (s.v + l).normalize_or_zero();
-    let g2 = ieee::div(1.0, 1.0 + lambda_cos(nv, alpha) + lambda_cos(nl, alpha));
+    let g2 = crate::masking::g2_height_correlated_from_lambda(lambda_cos(nv, alpha), lambda_cos(nl, alpha));
     let w = ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf);
     if w > 0.0 && w < f32::INFINITY {
         w

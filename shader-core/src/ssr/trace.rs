@@ -169,11 +169,9 @@ pub fn load_surface(p: &SsrParams, gbuf: &[f32], x: u32, y: u32) -> Surface {
     s
 }
 
-/// Mirror reflection of the eye direction about n: 2 (n.v) n - v.
-#[inline]
-pub fn reflect(v: Vec3, n: Vec3) -> Vec3 {
-    n * (2.0 * n.dot(v)) - v
-}
+/// Mirror reflection of the eye direction about n: 2 (n.v) n - v ([`crate::fresnel::reflect`],
+/// the one home of the formula).
+pub use crate::fresnel::reflect;
 
 /// The screen-space ray of view-space direction `r` from surface `s`: its origin (the pixel
 /// centre) and direction (the screen-space image of pos + k r with k chosen so the end point stays
