@@ -3,8 +3,10 @@
 //!
 //! Per function: evaluations per second on the CPU backend with all threads and with one thread
 //! (their ratio is the CPU scaling), on the GPU backend (timestamp queries around the compute
-//! pass: kernel time only, uploads and readback excluded), and the driver's compile time of the
-//! function's own entry point (its pipeline creation, first use). For `ggx_d` and
+//! pass: kernel time only, uploads and readback excluded) with both builds of the module (the
+//! default one, whose division and square root are `shader_core::ieee`'s exact routines, and the
+//! native one, `HOST_DIV_SQRT=native`), and the driver's compile time of the function's own entry
+//! point (its pipeline creation, first use). For `ggx_d` and
 //! `sample_vndf_heitz` a hand-written WGSL kernel of the same formula (host/src/wgsl/
 //! reference.wgsl, compiled by naga) runs over the same rows on the same adapter in the same
 //! run: the rust-gpu / WGSL rate ratio says how far the rust-gpu kernel is from what the adapter
