@@ -143,11 +143,7 @@ pub fn bench_inputs(f: &FunctionInfo, rows: usize) -> Vec<f32> {
     v
 }
 
-/// (fastest, median) of run times.
-fn best_and_median(mut v: Vec<f64>) -> (f64, f64) {
-    v.sort_by(|a, b| a.total_cmp(b));
-    (v[0], v[v.len() / 2])
-}
+use crate::timing::best_and_median;
 
 /// (best rate, median rate, timing source) of `f` over `input` on `backend`.
 fn time_eval(backend: &Backend, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<(f64, f64, String)> {

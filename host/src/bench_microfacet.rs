@@ -361,11 +361,7 @@ pub struct Measured {
     pub rust_gpu_over_wgsl: Option<f64>,
 }
 
-/// (fastest, median) of run times.
-fn best_and_median(mut v: Vec<f64>) -> (f64, f64) {
-    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    (v[0], v[v.len() / 2])
-}
+use crate::timing::best_and_median;
 
 /// Evaluations per second of `id` over `table` on `backend`: (fastest run, median run, timing source).
 fn time_backend(backend: &Backend, f: &FunctionInfo, table: &[f32], repeats: usize, pb: &indicatif::ProgressBar) -> Result<(f64, f64, String)> {

@@ -180,10 +180,7 @@ pub fn stats(p: &Point, f0: f64, out: &[f32]) -> Stats {
     Stats { below: below as f64 / nf, mean, var, bad }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    v[v.len() / 2]
-}
+use crate::timing::median;
 
 /// Median samples per second of each function of `ids` over `table` on `backend`, and the timing
 /// source. The functions take turns (one warm-up round, then `repeats` timed rounds), so a change

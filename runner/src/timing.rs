@@ -45,3 +45,29 @@ pub fn cpu_model() -> String {
         .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
         .unwrap_or_else(|| "unknown CPU".into())
 }
+
+/// (fastest, median) of measured times (seconds; the upper median for an even count). NaN sorts
+/// last (`f64::total_cmp`), so a failed measurement never becomes the fastest. Panics on an empty
+/// list: every benchmark times at least one run.
+pub fn best_and_median(mut v: Vec<f64>) -> (f64, f64) {
+    assert!(!v.is_empty(), "no timed runs");
+    v.sort_by(|a, b| a.total_cmp(b));
+    (v[0], v[v.len() / 2])
+}
+
+/// The median of measured times ([`best_and_median`]).
+pub fn median(v: Vec<f64>) -> f64 {
+    best_and_median(v).1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn best_and_median_ignore_nan_and_order() {
+        assert_eq!(best_and_median(vec![3.0, 1.0, 2.0]), (1.0, 2.0));
+        assert_eq!(best_and_median(vec![f64::NAN, 2.0, 1.0]), (1.0, 2.0));
+        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), 3.0);
+    }
+}

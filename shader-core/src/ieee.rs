@@ -58,9 +58,10 @@ fn pow2i(k: i32) -> f32 {
     f32::from_bits(((k + 127) as u32) << 23)
 }
 
-/// Veltkamp split into two halves of at most 12 significant bits each (|a| < 2^115).
+/// Veltkamp split into two halves of at most 12 significant bits each (|a| < 2^115); the one
+/// home of the split, used by [`crate::math`]'s double-f32 arithmetic too.
 #[inline]
-fn split(a: f32) -> (f32, f32) {
+pub(crate) fn split(a: f32) -> (f32, f32) {
     let c = 4097.0 * a;
     let hi = c - (c - a);
     (hi, a - hi)

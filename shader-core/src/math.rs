@@ -238,13 +238,7 @@ fn fast_two_sum(a: f32, b: f32) -> (f32, f32) {
     (s, e)
 }
 
-/// Veltkamp split into two halves of at most 12 significant bits each (|a| < 2^115).
-#[inline]
-fn split(a: f32) -> (f32, f32) {
-    let c = 4097.0 * a;
-    let hi = c - (c - a);
-    (hi, a - hi)
-}
+use crate::ieee::split;
 
 /// Dekker's TwoProduct without FMA: p + e == a * b exactly when no under/overflow occurs.
 #[inline]

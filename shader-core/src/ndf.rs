@@ -21,9 +21,10 @@ use crate::math;
 use crate::vector::Vec3;
 use core::f32::consts::PI;
 
-/// False unless both roughness values are valid (finite and >= 0; NaN is invalid).
+/// False unless both roughness values are valid (finite and >= 0; NaN is invalid): the one
+/// roughness check of the NDFs, the masking functions, the samplers and the BxDFs.
 #[inline]
-pub(crate) fn alpha_valid(alpha_x: f32, alpha_y: f32) -> bool {
+pub fn alpha_valid(alpha_x: f32, alpha_y: f32) -> bool {
     alpha_x >= 0.0 && alpha_y >= 0.0 && alpha_x < f32::INFINITY && alpha_y < f32::INFINITY
 }
 

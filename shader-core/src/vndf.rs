@@ -101,10 +101,7 @@ impl ReflectionSample {
 /// Valid input of the reflection samplers: finite alphas >= 0 and a finite non-zero wi.
 #[inline]
 fn reflection_input_valid(wi: Vec3, alpha_x: f32, alpha_y: f32) -> bool {
-    alpha_x >= 0.0
-        && alpha_x < f32::INFINITY
-        && alpha_y >= 0.0
-        && alpha_y < f32::INFINITY
+    ndf::alpha_valid(alpha_x, alpha_y)
         && wi.is_finite()
         && wi.length_squared() > 0.0
 }

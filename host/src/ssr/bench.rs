@@ -535,10 +535,7 @@ fn parse_size(s: &str) -> Result<(usize, usize)> {
     Ok((w, h))
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
+use crate::timing::median;
 
 pub fn run_wall(a: &WallArgs) -> Result<()> {
     let gpu = Backend::select(DeviceChoice::Gpu)?;

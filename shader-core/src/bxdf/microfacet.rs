@@ -25,7 +25,7 @@ impl TrowbridgeReitz {
     /// Both alphas are finite and >= 0 (NaN, negative and infinite are invalid).
     #[inline]
     pub fn is_valid(&self) -> bool {
-        self.alpha_x >= 0.0 && self.alpha_x < f32::INFINITY && self.alpha_y >= 0.0 && self.alpha_y < f32::INFINITY
+        ndf::alpha_valid(self.alpha_x, self.alpha_y)
     }
 
     /// max(alpha_x, alpha_y) < 1e-3: treat as a perfect mirror / perfect refractor (PBRT-v4
