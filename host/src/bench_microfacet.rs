@@ -602,99 +602,50 @@ fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu
 }
 
 /// Scatter plot: max relative error (log) against evaluations per second (log), one labelled point
-/// per function and backend.
+/// per function and backend ([`crate::plot`]); functions with bitwise-equal errors on one backend
+/// share one label ("a = b").
 fn plot(path: &Path, rows: &[Measured], gpu_name: Option<String>) -> Result<()> {
-    use plotters::prelude::*;
-    static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
-    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    let (w, h) = (1800u32, 1200u32);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    let mut pts: Vec<(f64, f64, String, bool)> = Vec::new();
-    for m in rows {
-        let e = m.error.max_rel.max(1e-9);
-        if let Some(c) = m.cpu_evals_per_s {
-            pts.push((c, e, m.name.clone(), false));
-        }
-        if let Some(g) = m.gpu_evals_per_s {
-            pts.push((g, e, m.name.clone(), true));
-        }
-    }
-    anyhow::ensure!(!pts.is_empty(), "nothing timed: no plot");
-    let (xmin, xmax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
-    let (ymin, ymax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let caption = match &gpu_name {
-            Some(_) => "Microfacet approximations: max relative error vs evaluations/s (● CPU backend, ▲ GPU backend)",
-            None => "Microfacet approximations: max relative error vs evaluations/s (CPU backend)",
-        };
-        let mut chart = ChartBuilder::on(&root)
-            .caption(caption, ("sans-serif", 30))
-            .margin(30)
-            .margin_bottom(75)
-            .x_label_area_size(90)
-            .y_label_area_size(100)
-            .build_cartesian_2d((xmin / 2.0..xmax * 3.0).log_scale(), (ymin / 5.0..ymax * 5.0).log_scale())
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("evaluations per second")
-            .y_desc("max relative error over the grid")
-            .label_style(("sans-serif", 20))
-            .axis_desc_style(("sans-serif", 24))
-            .x_label_formatter(&|x| format!("{x:.0e}"))
-            .y_label_formatter(&|y| format!("{y:.0e}"))
-            .draw()
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        let cpu_color = RGBColor(31, 119, 180);
-        let gpu_color = RGBColor(214, 39, 40);
-        chart
-            .draw_series(pts.iter().filter(|p| !p.3).map(|p| Circle::new((p.0, p.1), 7, cpu_color.filled())))
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        chart
-            .draw_series(pts.iter().filter(|p| p.3).map(|p| TriangleMarker::new((p.0, p.1), 9, gpu_color.filled())))
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        // One label per group of points with the same error (bitwise) on the same backend (the
-        // forms that share their arithmetic), nudged down when it would overlap an earlier label.
-        let mut groups: Vec<(f64, f64, Vec<String>, bool)> = Vec::new();
-        for p in &pts {
-            match groups.iter_mut().find(|g| g.1.to_bits() == p.1.to_bits() && g.3 == p.3) {
-                Some(g) => {
-                    g.0 = g.0.max(p.0);
-                    g.2.push(p.2.clone());
+    use crate::plot::{Axis, Plot, Series};
+    let series_of = |label: &str, rate: &dyn Fn(&Measured) -> Option<f64>| {
+        let mut s = Series::scatter(label, Vec::new());
+        let mut first_of_error: Vec<(u64, usize)> = Vec::new();
+        for m in rows {
+            let Some(r) = rate(m) else { continue };
+            let e = m.error.max_rel.max(1e-9);
+            match first_of_error.iter().find(|(bits, _)| *bits == e.to_bits()) {
+                Some(&(_, k)) => {
+                    s.point_labels[k] = format!("{} = {}", s.point_labels[k], m.name);
+                    s.point_labels.push(String::new());
                 }
-                None => groups.push((p.0, p.1, vec![p.2.clone()], p.3)),
+                None => {
+                    first_of_error.push((e.to_bits(), s.points.len()));
+                    s.point_labels.push(m.name.clone());
+                }
             }
+            s.points.push((r, e));
         }
-        let mut placed: Vec<(i32, i32)> = Vec::new();
-        for g in &groups {
-            let (px, py) = chart.backend_coord(&(g.0, g.1));
-            let mut y = py - 8;
-            while placed.iter().any(|&(x0, y0)| (x0 - px).abs() < 300 && (y0 - y).abs() < 16) {
-                y += 16;
-            }
-            placed.push((px, y));
-            let color = if g.3 { gpu_color } else { cpu_color };
-            root.draw(&Text::new(g.2.join(" = "), (px + 10, y), ("sans-serif", 16).into_font().color(&color)))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
-        let mut footer = Vec::new();
-        if let Some(g) = gpu_name {
-            footer.push(g.chars().take(170).collect::<String>());
-        }
-        let untimed: Vec<String> =
-            rows.iter().filter(|m| m.cpu_evals_per_s.is_none()).map(|m| format!("{} {:.2e}", m.name, m.error.max_rel)).collect();
-        if !untimed.is_empty() {
-            footer.push(format!("Not plotted (no kernel; error only, max rel): {}", untimed.join(", ")));
-        }
-        for (i, line) in footer.iter().enumerate() {
-            root.draw(&Text::new(line.clone(), (40, h as i32 - 24 - 20 * (footer.len() - 1 - i) as i32), ("sans-serif", 16).into_font()))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+        s
+    };
+    let mut series = vec![series_of("CPU backend", &|m| m.cpu_evals_per_s)];
+    if gpu_name.is_some() {
+        series.push(series_of("GPU backend", &|m| m.gpu_evals_per_s));
     }
-    crate::io::create_parent_dir(path)?;
-    image::save_buffer(path, &buf, w, h, image::ColorType::Rgb8).with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
+    anyhow::ensure!(series.iter().any(|s| !s.points.is_empty()), "nothing timed: no plot");
+    let mut footnotes = Vec::new();
+    if let Some(g) = gpu_name {
+        footnotes.push(g);
+    }
+    let untimed: Vec<String> = rows.iter().filter(|m| m.cpu_evals_per_s.is_none()).map(|m| format!("{} {:.2e}", m.name, m.error.max_rel)).collect();
+    if !untimed.is_empty() {
+        footnotes.push(format!("Not plotted (no kernel; error only, max rel): {}", untimed.join(", ")));
+    }
+    Plot {
+        title: "Microfacet approximations: max relative error vs evaluations/s".into(),
+        x: Axis::log("evaluations per second"),
+        y: Axis::log("max relative error over the grid"),
+        series,
+        footnotes,
+        size: (1800, 1200),
+    }
+    .save_png(path)
 }
