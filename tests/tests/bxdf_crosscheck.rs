@@ -1,5 +1,5 @@
 //! CPU vs GPU (lavapipe) comparison of every Fresnel / BxDF function registered in
-//! `shader_kernels::table` (ids 200..=219): a dense grid plus adversarial values (signed zeros,
+//! `shader_kernels::eval::bxdf`: a dense grid plus adversarial values (signed zeros,
 //! denormals, huge, grazing, unnormalized and degenerate directions, NaN / Inf parameters), 0 ULP
 //! required on every output element (two NaNs of any payload count as equal).
 //!

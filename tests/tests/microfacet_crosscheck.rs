@@ -1,5 +1,5 @@
-//! CPU vs GPU (lavapipe) for every registered microfacet function (`shader-kernels/src/
-//! microfacet_table.rs`, plus the GGX D/Lambda/G1 of `foundation.rs`): a dense grid plus the
+//! CPU vs GPU (lavapipe) for every registered microfacet function (`shader-kernels/src/eval/
+//! microfacet.rs`, plus the GGX D/Lambda/G1 of `foundation.rs`): a dense grid plus the
 //! adversarial inputs of `crosscheck::inputs` (signed zeros, denormals, 1 ± ulp, huge, grazing,
 //! degenerate vectors, NaN, invalid roughness), 0 ULP required on every element.
 //!

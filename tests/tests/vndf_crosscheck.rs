@@ -1,5 +1,5 @@
 //! CPU vs GPU (lavapipe) comparison of the reflection samplers and their densities registered in
-//! `shader_kernels::vndf_table` (ids 400..=407): a dense grid of wi, alpha and (u1, u2) for the
+//! `shader_kernels::eval::vndf`: a dense grid of wi, alpha and (u1, u2) for the
 //! samplers and of (wi, wo, alpha) for the densities, plus adversarial values (signed zeros,
 //! denormals, huge, grazing, unnormalized and degenerate directions, invalid alphas, NaN), 0 ULP
 //! required on every output element (two NaNs of any payload count as equal).
