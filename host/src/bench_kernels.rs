@@ -145,12 +145,15 @@ pub fn bench_inputs(f: &FunctionInfo, rows: usize) -> Vec<f32> {
 
 use crate::timing::best_and_median;
 
-/// (best rate, median rate, timing source) of `f` over `input` on `backend`.
-fn time_eval(backend: &Backend, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<(f64, f64, String)> {
+/// (best rate, median rate, timing source) of `f` over `input` on `backend`: one warm-up run,
+/// then `repeats` timed runs; `tick` is called after each run (a progress bar's step).
+pub fn time_eval(backend: &Backend, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32, tick: &dyn Fn()) -> Result<(f64, f64, String)> {
     let (_, warm) = backend.eval_table(f, input, rows)?;
+    tick();
     let mut secs = Vec::new();
     for _ in 0..repeats {
         secs.push(backend.eval_table(f, input, rows)?.1.seconds);
+        tick();
     }
     let (best, med) = best_and_median(secs);
     Ok((rows as f64 / best, rows as f64 / med, warm.source.to_string()))
@@ -200,10 +203,16 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     // Both builds of the main module on the same adapter: the exact one (default) and the native.
     let (gpu, native) = match gpu {
         Some(Backend::Gpu(g)) => {
-            let exact = crate::shaders::load_variant(DivSqrt::Exact).map_err(anyhow::Error::msg)?;
-            let native = crate::shaders::load_variant(DivSqrt::Native).map_err(anyhow::Error::msg)?;
-            let g = if g.div_sqrt == DivSqrt::Exact { g } else { Box::new(GpuContext::new(&exact)?) };
-            (Some(Backend::Gpu(g)), Some(Backend::Gpu(Box::new(GpuContext::new(&native)?))))
+            // The build `HOST_DIV_SQRT` selected is already loaded: load only the other one.
+            let other = |v: DivSqrt| -> Result<Box<GpuContext>> {
+                let m = crate::shaders::load_variant(v).map_err(anyhow::Error::msg)?;
+                Ok(Box::new(GpuContext::new(&m)?))
+            };
+            let (exact, native) = match g.div_sqrt {
+                DivSqrt::Exact => (g, other(DivSqrt::Native)?),
+                DivSqrt::Native => (other(DivSqrt::Exact)?, g),
+            };
+            (Some(Backend::Gpu(exact)), Some(Backend::Gpu(native)))
         }
         other => (other, None),
     };
@@ -218,8 +227,8 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     for f in selected {
         pb.set_message(f.name);
         let input = bench_inputs(f, rows);
-        let (cpu_rate, cpu_median_rate, _) = time_eval(&cpu, f, &input, rows, a.repeats)?;
-        let (cpu_one_thread_rate, _, _) = one_thread.install(|| time_eval(&cpu, f, &input, rows, a.repeats))?;
+        let (cpu_rate, cpu_median_rate, _) = time_eval(&cpu, f, &input, rows, a.repeats, &|| {})?;
+        let (cpu_one_thread_rate, _, _) = one_thread.install(|| time_eval(&cpu, f, &input, rows, a.repeats, &|| {}))?;
         let mut row = KernelRow {
             name: f.name.into(),
             group: f.group.into(),
@@ -242,13 +251,13 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
         if let Some(Backend::Gpu(g)) = &gpu {
             row.gpu_compile_seconds = Some(g.prepare(f.entry, 2, 1)?);
             let backend = gpu.as_ref().expect("GPU backend");
-            let (r, m, src) = time_eval(backend, f, &input, rows, a.repeats).with_context(|| format!("timing {} on the GPU", f.name))?;
+            let (r, m, src) = time_eval(backend, f, &input, rows, a.repeats, &|| {}).with_context(|| format!("timing {} on the GPU", f.name))?;
             row.gpu_rate = Some(r);
             row.gpu_median_rate = Some(m);
             row.gpu_timing = Some(src);
             if let Some(Backend::Gpu(n)) = &native {
                 row.gpu_native_compile_seconds = Some(n.prepare(f.entry, 2, 1)?);
-                let (nr, _, _) = time_eval(native.as_ref().expect("native"), f, &input, rows, a.repeats).with_context(|| format!("timing {} (native module)", f.name))?;
+                let (nr, _, _) = time_eval(native.as_ref().expect("native"), f, &input, rows, a.repeats, &|| {}).with_context(|| format!("timing {} (native module)", f.name))?;
                 row.gpu_native_rate = Some(nr);
                 row.exact_slowdown = Some(nr / r);
                 if let Some(entry) = wgsl_entry(f.name) {

@@ -32,8 +32,8 @@
 
 use crate::timing::{cpu_model, load_average};
 use crate::backend::{Backend, DeviceChoice};
+use crate::bench_kernels::time_eval;
 use crate::eval::find_function;
-use shader_kernels::eval::FunctionInfo;
 use crate::ggx_fp16;
 use crate::microfacet_ref as r64;
 use anyhow::{bail, Context, Result};
@@ -361,22 +361,6 @@ pub struct Measured {
     pub rust_gpu_over_wgsl: Option<f64>,
 }
 
-use crate::timing::best_and_median;
-
-/// Evaluations per second of `id` over `table` on `backend`: (fastest run, median run, timing source).
-fn time_backend(backend: &Backend, f: &FunctionInfo, table: &[f32], repeats: usize, pb: &indicatif::ProgressBar) -> Result<(f64, f64, String)> {
-    let rows = table.len() / f.inputs.len();
-    let (_, warm) = backend.eval_table(f, table, rows)?;
-    pb.inc(1);
-    let mut secs = Vec::with_capacity(repeats);
-    for _ in 0..repeats {
-        let (_, t) = backend.eval_table(f, table, rows)?;
-        secs.push(t.seconds);
-        pb.inc(1);
-    }
-    let (best, med) = best_and_median(secs);
-    Ok((rows as f64 / best, rows as f64 / med, warm.source.to_string()))
-}
 
 /// Run the benchmark and write the report and plot.
 pub fn run(a: &MicrofacetArgs) -> Result<()> {
@@ -442,11 +426,11 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
                 let r = i % n;
                 table.extend_from_slice(&rows[r * stride..(r + 1) * stride]);
             }
-            let (c, cm, _) = time_backend(&cpu, f, &table, a.repeats, &pb)?;
+            let (c, cm, _) = time_eval(&cpu, f, &table, a.rows, a.repeats as u32, &|| pb.inc(1))?;
             m.cpu_evals_per_s = Some(c);
             m.cpu_median_per_s = Some(cm);
             if let Some(g) = &gpu {
-                let (r, rm, src) = time_backend(g, f, &table, a.repeats, &pb).with_context(|| format!("timing {} on the GPU", f.name))?;
+                let (r, rm, src) = time_eval(g, f, &table, a.rows, a.repeats as u32, &|| pb.inc(1)).with_context(|| format!("timing {} on the GPU", f.name))?;
                 m.gpu_evals_per_s = Some(r);
                 m.gpu_median_per_s = Some(rm);
                 m.gpu_timing = Some(src);

@@ -157,9 +157,6 @@ pub fn parse_csv(f: &FunctionInfo, mut reader: impl Read, allow_nonfinite: bool)
             }
             Ok(())
         })?;
-    if ni == 0 {
-        values.clear();
-    }
     check_finite(f, &values, allow_nonfinite, 2)?;
     Ok(Table { rows: n_lines, values })
 }

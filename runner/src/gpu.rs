@@ -119,59 +119,15 @@ impl GpuContext {
         }))
         .map_err(|e| GpuError::Device(info.name.clone(), e.to_string()))?;
 
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = if passthrough {
-            let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = shader
-                .manifest
-                .entry_points
-                .iter()
-                .map(|name| wgpu::PassthroughShaderEntryPoint {
-                    name: Cow::Owned(name.clone()),
-                    workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1),
-                })
-                .collect();
-            // SAFETY: the module is the one rust-gpu produced (validated by spirv-val during the
-            // build) and its manifest was checked against the sources; bindings are declared
-            // explicitly in `pipeline()` to match the entry points' signatures.
-            unsafe {
-                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
-                    label: Some("shader-kernels"),
-                    entry_points: Cow::Owned(entry_points),
-                    spirv: Some(Cow::Borrowed(&words)),
-                    ..Default::default()
-                })
-            }
-        } else {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("shader-kernels"),
-                source: wgpu::ShaderSource::SpirV(Cow::Borrowed(&words)),
-            })
-        };
-        if let Some(err) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader(err.to_string()));
-        }
+        // SAFETY: the module is the one rust-gpu produced (validated by spirv-val during the
+        // build) and its manifest was checked against the sources; bindings are declared
+        // explicitly in `pipeline()` to match the entry points' signatures.
+        let module = unsafe { spirv_module(&device, "shader-kernels", &words, &shader.manifest.entry_points, passthrough)? };
         let subgroup_module = if subgroups {
             let sg = crate::shaders::load_subgroup().map_err(GpuError::Shader)?;
             let sg_words = denorm_policy.apply(&sg.words).map_err(GpuError::Shader)?;
-            let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = sg
-                .manifest
-                .entry_points
-                .iter()
-                .map(|name| wgpu::PassthroughShaderEntryPoint { name: Cow::Owned(name.clone()), workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1) })
-                .collect();
             // SAFETY: as for the main module (rust-gpu output, spirv-val'd, manifest checked).
-            let m = unsafe {
-                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
-                    label: Some("shader-kernels-subgroup"),
-                    entry_points: Cow::Owned(entry_points),
-                    spirv: Some(Cow::Borrowed(&sg_words)),
-                    ..Default::default()
-                })
-            };
-            if let Some(err) = pollster::block_on(scope.pop()) {
-                return Err(GpuError::Shader(format!("subgroup module: {err}")));
-            }
+            let m = unsafe { spirv_module(&device, "shader-kernels-subgroup", &sg_words, &sg.manifest.entry_points, true)? };
             Some((m, sg.manifest.entry_points.clone()))
         } else {
             None
@@ -215,29 +171,11 @@ impl GpuContext {
     /// (workgroup size 64 in x) then dispatch like the built-in ones. Handed to the driver
     /// unchanged where the adapter allows passthrough, else translated by naga.
     pub fn add_spirv(&self, label: &str, words: &[u32], entries: &[&str]) -> Result<(), GpuError> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let m = if self.passthrough {
-            let eps: Vec<wgpu::PassthroughShaderEntryPoint> = entries
-                .iter()
-                .map(|e| wgpu::PassthroughShaderEntryPoint { name: Cow::Owned(e.to_string()), workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1) })
-                .collect();
-            // SAFETY: the caller vouches for the module (as for the built-in one: a valid
-            // SPIR-V compute module whose bindings are storage buffers in the order dispatched).
-            unsafe {
-                self.device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
-                    label: Some(label),
-                    entry_points: Cow::Owned(eps),
-                    spirv: Some(Cow::Borrowed(words)),
-                    ..Default::default()
-                })
-            }
-        } else {
-            self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::SpirV(Cow::Borrowed(words)) })
-        };
-        if let Some(err) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader(format!("{label}: {err}")));
-        }
-        self.extra_modules.lock().unwrap().push((m, entries.iter().map(|e| e.to_string()).collect()));
+        let names: Vec<String> = entries.iter().map(|e| e.to_string()).collect();
+        // SAFETY: the caller vouches for the module (as for the built-in one: a valid SPIR-V
+        // compute module whose bindings are storage buffers in the order dispatched).
+        let m = unsafe { spirv_module(&self.device, label, words, &names, self.passthrough)? };
+        self.extra_modules.lock().unwrap().push((m, names));
         Ok(())
     }
 
@@ -245,14 +183,9 @@ impl GpuContext {
     /// ones: a caller's own kernels, or the benches' speed references. naga's translation is not
     /// bit-exact with the project's kernels (no NoContraction, the driver's own sqrt/division).
     pub fn add_wgsl(&self, label: &str, source: &str, entries: &[&str]) -> Result<(), GpuError> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let m = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(source)),
-        });
-        if let Some(err) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader(format!("{label}: {err}")));
-        }
+        let m = validated(&self.device, label, || {
+            self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(source)) })
+        })?;
         self.extra_modules.lock().unwrap().push((m, entries.iter().map(|e| e.to_string()).collect()));
         Ok(())
     }
@@ -519,6 +452,45 @@ impl GpuContext {
     pub fn max_binding_bytes(&self) -> usize {
         (self.limits.max_storage_buffer_binding_size as usize).min(1 << 30)
     }
+}
+
+/// Run `create` inside a validation error scope; its error names `label`.
+fn validated(device: &wgpu::Device, label: &str, create: impl FnOnce() -> wgpu::ShaderModule) -> Result<wgpu::ShaderModule, GpuError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let m = create();
+    match pollster::block_on(scope.pop()) {
+        Some(err) => Err(GpuError::Shader(format!("{label}: {err}"))),
+        None => Ok(m),
+    }
+}
+
+/// A SPIR-V module with compute entry points `entries` (workgroup size
+/// [`shader_kernels::WORKGROUP_SIZE`] in x): handed to the driver unchanged with `passthrough`,
+/// else translated by naga.
+///
+/// # Safety
+/// With `passthrough` the words reach the driver unvalidated: they must be a valid SPIR-V
+/// compute module whose bindings are storage buffers in the order the dispatches bind them.
+unsafe fn spirv_module(device: &wgpu::Device, label: &str, words: &[u32], entries: &[String], passthrough: bool) -> Result<wgpu::ShaderModule, GpuError> {
+    validated(device, label, || {
+        if passthrough {
+            let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = entries
+                .iter()
+                .map(|name| wgpu::PassthroughShaderEntryPoint { name: Cow::Owned(name.clone()), workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1) })
+                .collect();
+            // SAFETY: the caller's contract (see above).
+            unsafe {
+                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                    label: Some(label),
+                    entry_points: Cow::Owned(entry_points),
+                    spirv: Some(Cow::Borrowed(words)),
+                    ..Default::default()
+                })
+            }
+        } else {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::SpirV(Cow::Borrowed(words)) })
+        }
+    })
 }
 
 /// A buffer of [`GpuContext::dispatch_chain`]: uploaded input, or a device buffer the passes
