@@ -34,8 +34,15 @@ pub const WORKGROUP_SIZE: u32 = 64;
 /// ...]), or `None` past the end of the work.
 #[inline]
 pub(crate) fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
-    let i = id.x + id.y * args[1] * WORKGROUP_SIZE;
-    if i < args[0] {
+    invocation_index(id, args[0], args[1])
+}
+
+/// The invocation index `id.x + id.y * groups_x * WORKGROUP_SIZE` of a 1D kernel dispatched as
+/// 2D groups, or `None` at or past `count`: the one mapping every 1D entry point uses.
+#[inline(always)]
+pub fn invocation_index(id: UVec3, count: u32, groups_x: u32) -> Option<u32> {
+    let i = id.x + id.y * groups_x * WORKGROUP_SIZE;
+    if i < count {
         Some(i)
     } else {
         None

@@ -13,8 +13,6 @@
 //! so the names a user writes and the values the body reads cannot drift apart. Directions are
 //! in the local shading frame (normal = +z).
 
-use spirv_std::glam::UVec3;
-
 pub mod basic;
 pub mod bxdf;
 pub mod microfacet;
@@ -29,17 +27,6 @@ pub mod vndf;
 pub struct EvalArgs {
     pub rows: u32,
     pub groups_x: u32,
-}
-
-/// The row an eval invocation handles, or `None` past the end.
-#[inline(always)]
-pub fn invocation_row(id: UVec3, args: &EvalArgs) -> Option<usize> {
-    let r = id.x + id.y * args.groups_x * crate::WORKGROUP_SIZE;
-    if r < args.rows {
-        Some(r as usize)
-    } else {
-        None
-    }
 }
 
 /// One evaluable function, as `host eval`, the benches and the cross-checks see it.
@@ -188,8 +175,8 @@ macro_rules! evaluable {
                     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] input: &[f32],
                     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] output: &mut [f32],
                 ) {
-                    if let Some(r) = $crate::eval::invocation_row(id, args) {
-                        row(input, r * IN, output, r * OUT);
+                    if let Some(r) = $crate::invocation_index(id, args.rows, args.groups_x) {
+                        row(input, r as usize * IN, output, r as usize * OUT);
                     }
                 }
 
