@@ -13,6 +13,7 @@ pub mod grid;
 pub mod io;
 pub mod npy;
 pub mod plot;
+pub mod render;
 pub mod report;
 pub mod ssr;
 pub mod bench_kernels;

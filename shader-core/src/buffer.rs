@@ -30,6 +30,17 @@ pub fn store(buf: &mut [f32], i: usize, v: f32) {
     }
 }
 
+/// `buf[i]` of a word buffer, or 0 when `i` is out of range (the merging check of [`load`]).
+#[inline(always)]
+pub fn load_u32(buf: &[u32], i: usize) -> u32 {
+    if i < buf.len() {
+        // SAFETY: `i < buf.len()` was just checked.
+        unsafe { *buf.get_unchecked(i) }
+    } else {
+        0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -15,6 +15,7 @@ pub mod ieee;
 pub mod masking;
 pub mod math;
 pub mod ndf;
+pub mod pt;
 pub mod rng;
 pub mod ssr;
 pub mod vector;
