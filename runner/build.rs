@@ -17,7 +17,7 @@ fn main() {
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::SUBGROUP_MANIFEST_PATH).display());
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::NATIVE_SPV_PATH).display());
     println!("cargo:rerun-if-changed={}", root.join(shader_manifest::NATIVE_MANIFEST_PATH).display());
-    // Copy the committed SPIR-V and manifest into OUT_DIR (empty files when missing) so the
+    // Copy the committed SPIR-V (decompressed) and manifest into OUT_DIR (empty files when missing) so the
     // binary embeds them and a missing build is reported at run time, not as a compile error.
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").unwrap());
     for (src, dst) in [
@@ -28,7 +28,11 @@ fn main() {
         (shader_manifest::NATIVE_SPV_PATH, "shader-kernels-native.spv"),
         (shader_manifest::NATIVE_MANIFEST_PATH, "shader-kernels-native.json"),
     ] {
-        let bytes = std::fs::read(root.join(src)).unwrap_or_default();
+        let bytes = if src.ends_with(".gz") {
+            shader_manifest::read_module(root, src).unwrap_or_else(|e| panic!("{e}")).unwrap_or_default()
+        } else {
+            std::fs::read(root.join(src)).unwrap_or_default()
+        };
         std::fs::write(out.join(dst), bytes).unwrap();
     }
     let hash = shader_manifest::source_hash(root).expect("hashing shader sources");

@@ -699,6 +699,39 @@ fn run_precompute(a: &PrecomputeArgs) -> Result<()> {
 }
 
 /// The LUT of `--lut`, or the default precompute on `backend`.
+/// The tables at `lut`, or the default tables from the user cache directory
+/// (`$XDG_CACHE_HOME` or `~/.cache`, `one-source-shading/ggx-energy-<shader source hash>.bin`),
+/// precomputed and cached there on first use (a cache that cannot be written is reported, not
+/// fatal). The precompute kernels give the same bits on every backend, so one cache serves all.
+pub fn tables_cached(backend: &Backend, lut: &Option<PathBuf>) -> Result<Tables> {
+    if lut.is_some() {
+        return load_or_precompute(backend, lut);
+    }
+    let dir = std::env::var_os("XDG_CACHE_HOME")
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+        .map(|d| d.join("one-source-shading"));
+    let hash = runner::shaders::SOURCE_HASH;
+    let file = dir.map(|d| d.join(format!("ggx-energy-{}.bin", &hash[..hash.len().min(16)])));
+    if let Some(f) = &file {
+        if f.exists() {
+            match Tables::read_bin(f) {
+                Ok(t) => return Ok(t),
+                Err(e) => eprintln!("notice: ignoring the cached tables {}: {e:#}", f.display()),
+            }
+        }
+    }
+    eprintln!("precomputing the default energy tables (once; cached for later runs)");
+    let t = precompute(backend, &TableSpec::default(), true)?.0;
+    if let Some(f) = &file {
+        if let Err(e) = crate::io::create_parent_dir(f).and_then(|()| t.write_bin(f)) {
+            eprintln!("notice: could not cache the energy tables at {}: {e:#}", f.display());
+        }
+    }
+    Ok(t)
+}
+
 pub fn load_or_precompute(backend: &Backend, lut: &Option<PathBuf>) -> Result<Tables> {
     match lut {
         Some(p) => Tables::read_bin(p),

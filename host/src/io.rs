@@ -16,7 +16,9 @@ pub fn write_exr(path: &Path, width: usize, height: usize, channels: &[(&str, &[
     let layer = Layer::new(
         (width, height),
         LayerAttributes::default(),
-        Encoding::FAST_LOSSLESS,
+        // Chunks in increasing order (the default lets the writer emit them as they finish), so
+        // equal images give byte-identical files.
+        Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS },
         AnyChannels::sort(list),
     );
     let image = Image::from_layer(layer);

@@ -89,6 +89,8 @@ enum Cmd {
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
     },
+    /// Path-trace a glTF scene (or the built-in Cornell box) on the CPU or a GPU: EXR + PNG + JSON.
+    Render(host::render::cli::RenderCommand),
     /// Screen-space reflections (HDRP or stochastic SSR) on a built-in scene or an EXR G-buffer.
     ///
     /// Writes the reflection EXR (premultiplied RGB + opacity, the composite over the sky, hit
@@ -162,6 +164,7 @@ fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
             Ok(())
         }
         Cmd::Ssr(cmd) => host::ssr::cli::main(cmd, ssr_given),
+        Cmd::Render(cmd) => host::render::cli::main(cmd),
         Cmd::Grid { output, width, height, alpha_min, alpha_max, aspect, device } => {
             let spec = host::grid::GridSpec { width, height, alpha_min, alpha_max, aspect };
             spec.validate()?;

@@ -4,6 +4,7 @@ use crate::gpu::{groups_2d, GpuContext, GpuError, OutputSpec};
 use crate::timing::{Timing, TimingSource};
 use anyhow::{bail, Context, Result};
 use shader_kernels::eval::{EvalArgs, FunctionInfo};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// What the user asked for.
@@ -156,5 +157,72 @@ impl Backend {
                 Ok((out, total.expect("at least one dispatch")))
             }
         }
+    }
+    /// Run kernel `entry` over invocations `0..count`, each writing `stride` floats, on this
+    /// backend: the GPU dispatches the entry point (bindings: `args`, then `inputs` read-only,
+    /// then the output), the CPU calls `cpu(args, i, out)` for every invocation on all cores,
+    /// where `out` is invocation `i`'s `stride` floats and `args` the record of its launch.
+    /// Large launches are split so no output binding exceeds the adapter's limit; `args`'s
+    /// launch fields ([`LaunchArgs`]) are filled in here. Returns the outputs and the time.
+    pub fn launch<A: LaunchArgs>(
+        &self,
+        entry: &str,
+        args: A,
+        inputs: &[&[u8]],
+        count: usize,
+        stride: usize,
+        cpu: impl Fn(&A, u32, &mut [f32]) + Sync,
+    ) -> Result<(Vec<f32>, Timing)> {
+        let mut out = vec![0.0f32; count * stride];
+        if count == 0 {
+            return Ok((out, Timing { seconds: 0.0, source: TimingSource::WallClock }));
+        }
+        let wg = shader_kernels::WORKGROUP_SIZE as usize;
+        match self {
+            Backend::Cpu => {
+                let t0 = Instant::now();
+                let mut a = args;
+                let (gx, _) = groups_2d(count.div_ceil(wg) as u32);
+                a.set_launch(count as u32, gx, 0);
+                out.par_chunks_mut(stride.max(1)).enumerate().for_each(|(i, o)| cpu(&a, i as u32, o));
+                Ok((out, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock }))
+            }
+            Backend::Gpu(g) => {
+                let per = (g.max_binding_bytes() / (4 * stride.max(1))).min(65535 * 65535 * wg).max(wg);
+                let mut total: Option<Timing> = None;
+                let mut start = 0;
+                while start < count {
+                    let n = (count - start).min(per);
+                    let (gx, gy) = groups_2d(n.div_ceil(wg) as u32);
+                    let mut a = args;
+                    a.set_launch(n as u32, gx, start as u32);
+                    let mut bufs: Vec<&[u8]> = vec![bytemuck::bytes_of(&a)];
+                    bufs.extend_from_slice(inputs);
+                    let (res, t) = g
+                        .dispatch(entry, &bufs, &[OutputSpec::zeroed(n * stride * 4)], (gx, gy, 1))
+                        .with_context(|| format!("{entry}: invocations {start}..{}", start + n))?;
+                    out[start * stride..(start + n) * stride].copy_from_slice(&bytemuck::pod_collect_to_vec::<u8, f32>(&res[0]));
+                    total = Some(match total { Some(x) => x.add(t), None => t });
+                    start += n;
+                }
+                Ok((out, total.expect("at least one dispatch")))
+            }
+        }
+    }
+}
+
+/// The launch fields of a kernel's argument record, filled by [`Backend::launch`]: the number of
+/// invocations of one dispatch, its workgroups in x, and the index of its first invocation (the
+/// kernel's invocation `i` is overall invocation `first + i`).
+pub trait LaunchArgs: bytemuck::Pod + Send + Sync {
+    /// Set the launch fields.
+    fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32);
+}
+
+impl LaunchArgs for shader_kernels::render::RenderArgs {
+    fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32) {
+        self.invocations = invocations;
+        self.groups_x = groups_x;
+        self.first_pixel = first;
     }
 }

@@ -23,5 +23,5 @@ pub mod gpu;
 pub mod shaders;
 pub mod timing;
 
-pub use backend::{Backend, DeviceChoice};
+pub use backend::{Backend, DeviceChoice, LaunchArgs};
 pub use timing::{Timing, TimingSource};

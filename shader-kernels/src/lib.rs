@@ -18,6 +18,8 @@ pub mod energy;
 #[cfg(not(feature = "subgroup-module"))]
 pub mod eval;
 #[cfg(not(feature = "subgroup-module"))]
+pub mod render;
+#[cfg(not(feature = "subgroup-module"))]
 pub mod ssr;
 #[cfg(feature = "subgroup-module")]
 pub mod ssr_subgroup;

@@ -10,20 +10,62 @@ use std::path::{Path, PathBuf};
 /// Crates whose sources are compiled into the SPIR-V, relative to the workspace root.
 pub const SHADER_CRATES: [&str; 2] = ["shader-core", "shader-kernels"];
 /// Where the committed SPIR-V lives, relative to the workspace root.
-pub const SPV_PATH: &str = "runner/shaders/shader-kernels.spv";
+pub const SPV_PATH: &str = "runner/shaders/shader-kernels.spv.gz";
 /// Where the committed manifest lives, relative to the workspace root.
 pub const MANIFEST_PATH: &str = "runner/shaders/shader-kernels.json";
 /// The second module (only the kernels needing subgroup operations; `subgroup-module` feature).
-pub const SUBGROUP_SPV_PATH: &str = "runner/shaders/shader-kernels-subgroup.spv";
+pub const SUBGROUP_SPV_PATH: &str = "runner/shaders/shader-kernels-subgroup.spv.gz";
 /// Its manifest.
 pub const SUBGROUP_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-subgroup.json";
 /// The "native" variant of the main module (`native-div-sqrt` feature: `OpFDiv` / `Sqrt` instead
 /// of `shader_core::ieee`'s software routines), loaded only with `HOST_DIV_SQRT=native`.
-pub const NATIVE_SPV_PATH: &str = "runner/shaders/shader-kernels-native.spv";
+pub const NATIVE_SPV_PATH: &str = "runner/shaders/shader-kernels-native.spv.gz";
 /// Its manifest.
 pub const NATIVE_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-native.json";
 /// The command that rebuilds all three.
 pub const REBUILD_COMMAND: &str = "cargo xtask build-shaders";
+
+/// Compress a SPIR-V module as stored in the repository (gzip, best compression, no timestamp:
+/// the same module always gives the same bytes).
+pub fn gzip(bytes: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut e = flate2::GzBuilder::new().mtime(0).write(Vec::new(), flate2::Compression::best());
+    e.write_all(bytes).expect("writing to memory");
+    e.finish().expect("writing to memory")
+}
+
+/// Decompress a stored module ([`gzip`]'s output); `path` names it in the error.
+pub fn gunzip(bytes: &[u8], path: &str) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let mut out = Vec::new();
+    flate2::read::GzDecoder::new(bytes).read_to_end(&mut out).map_err(|e| format!("{path}: not a gzip-compressed SPIR-V module ({e})"))?;
+    Ok(out)
+}
+
+/// Read a stored module from `root.join(rel)`: decompressed when `rel` ends in `.gz`; `None`
+/// when the file does not exist.
+pub fn read_module(root: &Path, rel: &str) -> Result<Option<Vec<u8>>, String> {
+    let path = root.join(rel);
+    match std::fs::read(&path) {
+        Ok(b) if rel.ends_with(".gz") => gunzip(&b, rel).map(Some),
+        Ok(b) => Ok(Some(b)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("{}: {e}", path.display())),
+    }
+}
+
+/// Write a module to `root.join(rel)`, gzip-compressed when `rel` ends in `.gz`.
+pub fn write_module(root: &Path, rel: &str, spv: &[u8]) -> std::io::Result<()> {
+    let path = root.join(rel);
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    if rel.ends_with(".gz") {
+        std::fs::write(path, gzip(spv))
+    } else {
+        std::fs::write(path, spv)
+    }
+}
 
 /// Every file of the shader crates that feeds the SPIR-V, as paths relative to `root`, sorted.
 pub fn shader_source_files(root: &Path) -> std::io::Result<Vec<PathBuf>> {

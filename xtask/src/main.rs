@@ -270,7 +270,7 @@ fn build_module(
     let spv_out = root.join(spv_rel);
     let manifest_out = root.join(manifest_rel);
     if check {
-        let old_spv = std::fs::read(&spv_out).unwrap_or_default();
+        let old_spv = shader_manifest::read_module(root, spv_rel).map_err(anyhow::Error::msg)?.unwrap_or_default();
         let old_manifest = std::fs::read_to_string(&manifest_out).unwrap_or_default();
         let mut problems = Vec::new();
         if old_spv != spv {
@@ -291,8 +291,7 @@ fn build_module(
         }
         eprintln!("[build-shaders] --check: committed {spv_rel} and its manifest are up to date");
     } else {
-        std::fs::create_dir_all(spv_out.parent().unwrap())?;
-        std::fs::write(&spv_out, &spv)?;
+        shader_manifest::write_module(root, spv_rel, &spv).with_context(|| format!("writing {}", spv_out.display()))?;
         std::fs::write(&manifest_out, json)?;
         eprintln!("[build-shaders] wrote {spv_rel} and {manifest_rel}");
     }

@@ -52,6 +52,17 @@ fn clamp01(x: f32) -> f32 {
     }
 }
 
+/// The Fresnel and specular factors of [`GltfMetalRoughBxDF`]'s f at one (wo, wi).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LobeTerms {
+    /// Dielectric Schlick Fresnel F_d(|wo.h|), f0 = 0.04.
+    pub fd: f32,
+    /// Metal Schlick Fresnel F_m(|wo.h|), f0 = base colour (zero when effectively smooth).
+    pub fm: Vec3,
+    /// D(h) G2(wo, wi) / (4 |cos_o| |cos_i|) (0 when effectively smooth).
+    pub spec: f32,
+}
+
 /// glTF metal-rough material: base color (linear RGB), metallic, perceptual roughness.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GltfMetalRoughBxDF {
@@ -101,24 +112,44 @@ impl GltfMetalRoughBxDF {
         }
     }
 
+    /// The factors of f for unit wo, wi on the same side: the dielectric Fresnel F_d(|wo.h|),
+    /// the metal Fresnel F_m(|wo.h|) and the specular BRDF D G2 / (4 |cos_o cos_i|) (0 and F_m
+    /// unset when effectively smooth). [`GltfMetalRoughBxDF::f`] and the energy-compensated
+    /// material of the path tracer (`pt::material`) combine the same terms.
+    #[inline]
+    pub fn lobe_terms(&self, wo: Vec3, wi: Vec3) -> LobeTerms {
+        let wm = face_forward((wo + wi).normalize(), Vec3::Z);
+        let vdoth = super::half_vector_cos(wo, wi, wm).abs();
+        let fd = fresnel::schlick(vdoth, Self::dielectric_f0(), 1.0);
+        if self.distrib.effectively_smooth() {
+            return LobeTerms { fd, fm: Vec3::ZERO, spec: 0.0 };
+        }
+        let spec = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * (wi.z.abs() * wo.z.abs()));
+        let fm = fresnel::schlick_rgb(vdoth, self.base, splat(1.0));
+        LobeTerms { fd, fm, spec }
+    }
+
     /// The two lobes for unit wo, wi on the same side: (diffuse part, specular part) of f, the
     /// specular part 0 when effectively smooth.
     #[inline]
     fn lobes(&self, wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
-        let wm = face_forward((wo + wi).normalize(), Vec3::Z);
-        let vdoth = super::half_vector_cos(wo, wi, wm).abs();
+        let t = self.lobe_terms(wo, wi);
         let m = self.metallic;
-        let fd = fresnel::schlick(vdoth, Self::dielectric_f0(), 1.0);
         // (1 - metallic) (1 - F_d) base / pi
-        let diffuse = self.base * ((1.0 - m) * (1.0 - fd) * FRAC_1_PI);
+        let diffuse = self.base * ((1.0 - m) * (1.0 - t.fd) * FRAC_1_PI);
         if self.distrib.effectively_smooth() {
             return (diffuse, Vec3::ZERO);
         }
-        let spec = ieee::div(self.distrib.d(wm) * self.distrib.g(wo, wi), 4.0 * (wi.z.abs() * wo.z.abs()));
-        let fm = fresnel::schlick_rgb(vdoth, self.base, splat(1.0));
         // (1 - metallic) F_d spec + metallic F_m spec
-        let fspec = splat((1.0 - m) * fd) + fm * m;
-        (diffuse, fspec * spec)
+        let fspec = splat((1.0 - m) * t.fd) + t.fm * m;
+        (diffuse, fspec * t.spec)
+    }
+
+    /// Density of the specular (visible-normal) lobe alone at wi, for unit wo, wi on the same
+    /// side (0 when effectively smooth).
+    #[inline]
+    pub fn specular_lobe_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.specular_pdf(wo, wi)
     }
 
     /// Specular lobe density at wi (visible normals), for unit wo, wi on the same side.

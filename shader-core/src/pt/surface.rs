@@ -71,8 +71,8 @@ pub struct MaterialPoint {
     pub transmission: f32,
     /// Index of refraction of the transmissive part.
     pub ior: f32,
-    /// Emits from both faces.
-    pub double_sided: bool,
+    /// 1 when it emits from both faces, else 0 (u32: no bool in structs for SPIR-V).
+    pub double_sided: u32,
 }
 
 /// A shading point.
@@ -88,8 +88,8 @@ pub struct SurfacePoint {
     pub ts: Vec3,
     /// Unit bitangent, `ns x ts`.
     pub bs: Vec3,
-    /// The ray arrived at the front face (against `ng`).
-    pub front: bool,
+    /// 1 when the ray arrived at the front face (against `ng`), else 0.
+    pub front: u32,
     /// The triangle's emissive-triangle light, or [`NONE`].
     pub light: u32,
     /// Material parameters at the point.
@@ -145,14 +145,13 @@ pub fn surface_point(sc: &[u32], t: u32, b1: f32, b2: f32, d: Vec3) -> SurfacePo
 
     // Tangent frame: the mesh's tangent (Gram-Schmidt against ns) or an arbitrary one.
     let mut ts = orthonormal_tangent(ns);
-    let mut tangent_sign = 1.0;
     if flags & SF_TANGENTS != 0 {
         let o = scene::shading(sc, t, S_TANGENTS);
         let tv = interpolate(vec3(sc, o), vec3(sc, o + 4), vec3(sc, o + 8), b1, b2);
         let tv = (tv - ns * ns.dot(tv)).normalize_or_zero();
         if tv.dot(tv) > 0.0 {
             ts = tv;
-            tangent_sign = if float(sc, o + 3) < 0.0 { -1.0 } else { 1.0 };
+            let tangent_sign = if float(sc, o + 3) < 0.0 { -1.0 } else { 1.0 };
             // Normal map (glTF 3.9.3): n = normalize((2 c - 1) * (scale, scale, 1)) in (T, B, N).
             let nt = word(sc, mw(M_NORMAL_TEX));
             if nt != NONE && flags & SF_UVS != 0 {
@@ -186,7 +185,7 @@ pub fn surface_point(sc: &[u32], t: u32, b1: f32, b2: f32, d: Vec3) -> SurfacePo
         emission,
         transmission: float(sc, mw(M_TRANSMISSION)) * tr_tex.r,
         ior: float(sc, mw(M_IOR)),
-        double_sided: word(sc, mw(M_DOUBLE_SIDED)) != 0,
+        double_sided: if word(sc, mw(M_DOUBLE_SIDED)) != 0 { 1 } else { 0 },
     };
     SurfacePoint {
         p,
@@ -194,7 +193,7 @@ pub fn surface_point(sc: &[u32], t: u32, b1: f32, b2: f32, d: Vec3) -> SurfacePo
         ns,
         ts,
         bs,
-        front: d.dot(ng) < 0.0,
+        front: if d.dot(ng) < 0.0 { 1 } else { 0 },
         light: word(sc, scene::shading(sc, t, S_LIGHT)),
         material,
     }
