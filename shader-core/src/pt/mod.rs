@@ -8,7 +8,9 @@
 //! [`environment`] (uniform or equirectangular, importance sampled), [`material`] (the glTF BxDF
 //! with energy compensation and transmission), [`integrator`] (NEE with MIS, Russian roulette).
 
+pub mod bvh;
 pub mod ray;
 pub mod scene;
 pub mod surface;
 pub mod texture;
+pub mod triangle;
