@@ -1,0 +1,156 @@
+//! The built-in scene: a Cornell box (Goral et al. 1984, "Modeling the interaction of light
+//! between diffuse surfaces", the box's layout) with an area light under the ceiling and two rows
+//! of six glTF metal-rough spheres, roughness 0 to 1: gold metal in front, blue plastic behind.
+//!
+//! glTF units: the box spans x in [-1, 1], y in [0, 2], z in [-1, 1], open towards +z; white
+//! floor, ceiling and back wall, red left (x = -1) and green right (x = 1) walls. The light is a
+//! 0.5 x 0.4 single-sided quad at y = 1.98 facing down, emission (17, 12, 4). Spheres of radius
+//! 0.13 rest on the floor at x = -0.75 + 0.3 i (roughness 0.2 i); the camera "default" is at
+//! (0, 1, 3.4) looking down -z with a 40 degree vertical field of view.
+
+use super::math::{cross, dot, sub, Mat4};
+use super::{CameraDesc, Material, MeshData, Projection, Scene, SceneBuilder};
+
+/// Latitude bands per sphere of the default built-in scene (11.5k triangles).
+pub const DEFAULT_DETAIL: u32 = 16;
+
+/// Sphere radius.
+const RADIUS: f32 = 0.13;
+
+/// Triangles of the built-in scene at `detail`: 12 spheres of 4 d (d - 1) triangles, 10 for the
+/// box, 2 for the light.
+pub fn builtin_triangles(detail: u32) -> usize {
+    let d = detail.max(3) as usize;
+    12 * 4 * d * (d - 1) + 12
+}
+
+/// The detail whose built-in scene has the triangle count closest to `triangles` (for
+/// benchmarks at 1k / 30k / 300k triangles).
+pub fn builtin_detail_for_triangles(triangles: usize) -> u32 {
+    (3..2000u32).min_by_key(|&d| (builtin_triangles(d) as i64 - triangles as i64).abs()).unwrap()
+}
+
+/// Two triangles of the quad p0 p1 p2 p3 (in order around it), wound to face `normal`.
+fn quad(name: &str, p: [[f32; 3]; 4], normal: [f64; 3]) -> MeshData {
+    let pd = p.map(|v| v.map(|x| x as f64));
+    let c = cross(sub(pd[1], pd[0]), sub(pd[2], pd[0]));
+    let indices = if dot(c, normal) > 0.0 { vec![0, 1, 2, 0, 2, 3] } else { vec![0, 2, 1, 0, 3, 2] };
+    let n = normal.map(|x| x as f32);
+    MeshData {
+        name: name.into(),
+        positions: p.to_vec(),
+        normals: Some(vec![n; 4]),
+        uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        tangents: None,
+        indices: Some(indices),
+    }
+}
+
+/// A UV sphere of `bands` latitude bands and 2 `bands` longitudes at the origin, radius `r`:
+/// smooth normals, uvs (u = longitude / 2 pi, v = colatitude / pi), outward counter-clockwise
+/// faces; seam and pole vertices repeat bit-identical positions so the mesh is watertight.
+pub fn uv_sphere(name: &str, r: f32, bands: u32) -> MeshData {
+    let nv = bands.max(3) as usize;
+    let nu = 2 * nv;
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut uvs = Vec::new();
+    for j in 0..=nv {
+        let th = std::f64::consts::PI * j as f64 / nv as f64;
+        for i in 0..=nu {
+            let ph = 2.0 * std::f64::consts::PI * (i % nu) as f64 / nu as f64;
+            let n = if j == 0 {
+                [0.0, 1.0, 0.0]
+            } else if j == nv {
+                [0.0, -1.0, 0.0]
+            } else {
+                [th.sin() * ph.cos(), th.cos(), -th.sin() * ph.sin()]
+            };
+            positions.push(n.map(|x| (x * r as f64) as f32));
+            normals.push(n.map(|x| x as f32));
+            uvs.push([i as f32 / nu as f32, j as f32 / nv as f32]);
+        }
+    }
+    let at = |j: usize, i: usize| (j * (nu + 1) + i) as u32;
+    let mut indices = Vec::new();
+    let mut push = |a: u32, b: u32, c: u32| {
+        let p = |k: u32| positions[k as usize].map(|x| x as f64);
+        let n = cross(sub(p(b), p(a)), sub(p(c), p(a)));
+        let centre = [0, 1, 2].map(|k| p(a)[k] + p(b)[k] + p(c)[k]);
+        if dot(n, centre) >= 0.0 {
+            indices.extend([a, b, c]);
+        } else {
+            indices.extend([a, c, b]);
+        }
+    };
+    for j in 0..nv {
+        for i in 0..nu {
+            let (a, b, c, d) = (at(j, i), at(j, i + 1), at(j + 1, i + 1), at(j + 1, i));
+            if j == 0 {
+                push(a, c, d);
+            } else if j == nv - 1 {
+                push(a, b, d);
+            } else {
+                push(a, b, c);
+                push(a, c, d);
+            }
+        }
+    }
+    MeshData { name: name.into(), positions, normals: Some(normals), uvs: Some(uvs), tangents: None, indices: Some(indices) }
+}
+
+/// The built-in Cornell box with spheres (see the module doc) at `detail` latitude bands per
+/// sphere.
+pub fn cornell_spheres(detail: u32) -> Scene {
+    let detail = detail.max(3);
+    let mut b = SceneBuilder::new(&format!("builtin cornell box (detail {detail})"));
+    let white = b.material(Material::pbr("white", [0.73, 0.73, 0.73], 0.0, 1.0));
+    let red = b.material(Material::pbr("red", [0.65, 0.05, 0.05], 0.0, 1.0));
+    let green = b.material(Material::pbr("green", [0.12, 0.45, 0.15], 0.0, 1.0));
+    let light = b.material(Material { emissive: [17.0, 12.0, 4.0], ..Material::pbr("light", [0.78, 0.78, 0.78], 0.0, 1.0) });
+    let id = Mat4::IDENTITY;
+    let walls = [
+        ("floor", [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]], [0.0, 1.0, 0.0], white),
+        ("ceiling", [[-1.0, 2.0, -1.0], [1.0, 2.0, -1.0], [1.0, 2.0, 1.0], [-1.0, 2.0, 1.0]], [0.0, -1.0, 0.0], white),
+        ("back", [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 2.0, -1.0], [-1.0, 2.0, -1.0]], [0.0, 0.0, 1.0], white),
+        ("left", [[-1.0, 0.0, -1.0], [-1.0, 0.0, 1.0], [-1.0, 2.0, 1.0], [-1.0, 2.0, -1.0]], [1.0, 0.0, 0.0], red),
+        ("right", [[1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [1.0, 2.0, 1.0], [1.0, 2.0, -1.0]], [-1.0, 0.0, 0.0], green),
+        ("light", [[-0.25, 1.98, -0.2], [0.25, 1.98, -0.2], [0.25, 1.98, 0.2], [-0.25, 1.98, 0.2]], [0.0, -1.0, 0.0], light),
+    ];
+    for (name, p, n, m) in walls {
+        b.mesh(&quad(name, p, n), m, &id).expect("built-in quad");
+    }
+    let sphere = uv_sphere("sphere", RADIUS, detail);
+    for i in 0..6 {
+        let roughness = 0.2 * i as f32;
+        let x = -0.75 + 0.3 * i as f64;
+        let gold = b.material(Material::pbr(&format!("gold {roughness:.1}"), [1.0, 0.78, 0.34], 1.0, roughness));
+        let blue = b.material(Material::pbr(&format!("blue plastic {roughness:.1}"), [0.05, 0.15, 0.6], 0.0, roughness));
+        b.mesh(&sphere, gold, &Mat4::translation([x, RADIUS as f64, 0.35])).expect("built-in sphere");
+        b.mesh(&sphere, blue, &Mat4::translation([x, RADIUS as f64, -0.3])).expect("built-in sphere");
+    }
+    b.camera(CameraDesc {
+        name: "default".into(),
+        position: [0.0, 1.0, 3.4],
+        forward: [0.0, 0.0, -1.0],
+        up: [0.0, 1.0, 0.0],
+        projection: Projection::Perspective { yfov: 40f32.to_radians(), aspect: None },
+    });
+    b.build().expect("the built-in scene builds")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn detail_sets_the_triangle_count() {
+        for d in [3, 5, 16] {
+            let s = cornell_spheres(d);
+            assert_eq!(s.counts.triangles, builtin_triangles(d), "detail {d}");
+            assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        }
+        assert_eq!(builtin_detail_for_triangles(1000), 5);
+        assert!((builtin_triangles(builtin_detail_for_triangles(300_000)) as f64 / 3e5 - 1.0).abs() < 0.02);
+    }
+}
