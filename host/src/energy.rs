@@ -112,8 +112,9 @@ pub const MIN_LUT_CELLS: u32 = 8;
 pub const MIN_LUT_SAMPLES: u32 = 64;
 
 impl Tables {
-    /// E_avg(r) = 2 int E_lut(mu, r) mu dmu of the LUT's own E (bilinear between cell centers,
-    /// clamped to the edge cells), integrated exactly in f64 at the centers of the E_avg grid.
+    /// E_avg(r) = 2 int E_lut(mu, r) mu dmu of the LUT's own E (linear in mu between cell
+    /// centers, clamped to the edge cells; the shader's roughness taps), integrated exactly in
+    /// f64 at the centers of the E_avg grid.
     ///
     /// This, not the Monte-Carlo E_avg of the kernel, is what the LUT buffer carries: Kulla-Conty
     /// conserves energy only if E_avg is the integral of the E the shader reads. At low roughness
@@ -125,12 +126,20 @@ impl Tables {
         (0..self.n_avg)
             .map(|k| {
                 let r = f64::from(core_energy::cell_center(k, self.n_avg));
-                // Row interpolation weights (clamp to edge), as the shader's lookup.
-                let t = (r * nr as f64 - 0.5).clamp(0.0, (nr - 1) as f64);
-                let j0 = t.floor() as usize;
-                let j1 = (j0 + 1).min(nr - 1);
-                let ty = t - j0 as f64;
-                let e = |i: usize| f64::from(self.e[j0 * n + i]) * (1.0 - ty) + f64::from(self.e[j1 * n + i]) * ty;
+                // Row weights as the shader's lookup (shader_core::energy's roughness taps):
+                // linear between the row centres, the quadratic through the outer three rows
+                // in the outer half cells.
+                let t = r * nr as f64 - 0.5;
+                let (rows, w): ([usize; 3], [f64; 3]) = if nr >= 3 && (t < 0.0 || t > (nr - 1) as f64) {
+                    let (j, s) = if t < 0.0 { (0, t.max(-0.5)) } else { (nr - 3, t.min(nr as f64 - 0.5) - (nr - 3) as f64) };
+                    ([j, j + 1, j + 2], [(s - 1.0) * (s - 2.0) * 0.5, s * (2.0 - s), s * (s - 1.0) * 0.5])
+                } else {
+                    let t = t.clamp(0.0, (nr - 1) as f64);
+                    let j0 = t.floor() as usize;
+                    let j1 = (j0 + 1).min(nr - 1);
+                    ([j0, j1, j1], [1.0 - (t - j0 as f64), t - j0 as f64, 0.0])
+                };
+                let e = |i: usize| (0..3).map(|k| f64::from(self.e[rows[k] * n + i]) * w[k]).sum::<f64>();
                 let c = |i: usize| (i as f64 + 0.5) / n as f64;
                 // Constant below the first center and above the last: 2 int e mu dmu = e (b^2 - a^2).
                 let mut sum = e(0) * c(0) * c(0) + e(n - 1) * (1.0 - c(n - 1) * c(n - 1));

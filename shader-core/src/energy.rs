@@ -243,19 +243,38 @@ fn lerp_cells(x: f32, n: u32) -> (u32, u32, f32) {
     (i0, i1, t - i0 as f32)
 }
 
-/// Bilinear lookup (clamp to edge) in the table at word `offset` of `lut`, n_x columns (mu) by
-/// n_y rows (roughness).
+/// Weights of the roughness axis: three cells (j0, j1, j2) and their weights. Inside the cell
+/// centres, linear interpolation (w2 = 0); in the outer half cells (r below the first centre or
+/// above the last), the quadratic through the three outermost centres, extrapolated (Lagrange),
+/// so E at r = 1 follows the table's curvature instead of holding the value at the last centre
+/// (1 - 1/(2 n_r)). With fewer than three cells: linear, clamped to the edge.
+#[inline]
+fn roughness_taps(y: f32, n: u32) -> (u32, u32, u32, f32, f32, f32) {
+    let t = y * n as f32 - 0.5;
+    let last = (n - 1) as f32;
+    if n >= 3 && (t < 0.0 || t > last) {
+        let (j, s) = if t < 0.0 { (0u32, if t > -0.5 { t } else { -0.5 }) } else { (n - 3, (if t < last + 0.5 { t } else { last + 0.5 }) - (n - 3) as f32) };
+        let w0 = (s - 1.0) * (s - 2.0) * 0.5;
+        let w1 = s * (2.0 - s);
+        let w2 = s * (s - 1.0) * 0.5;
+        return (j, j + 1, j + 2, w0, w1, w2);
+    }
+    let (i0, i1, f) = lerp_cells(y, n);
+    (i0, i1, i1, 1.0 - f, f, 0.0)
+}
+
+/// Lookup in the table at word `offset` of `lut`, n_x columns (mu) by n_y rows (roughness):
+/// linear in mu (clamp to edge), [`roughness_taps`] in roughness.
 #[inline]
 fn bilinear(lut: &[f32], offset: usize, n_x: u32, n_y: u32, x: f32, y: f32) -> f32 {
     let (i0, i1, tx) = lerp_cells(x, n_x);
-    let (j0, j1, ty) = lerp_cells(y, n_y);
-    let v00 = lut[offset + (j0 * n_x + i0) as usize];
-    let v10 = lut[offset + (j0 * n_x + i1) as usize];
-    let v01 = lut[offset + (j1 * n_x + i0) as usize];
-    let v11 = lut[offset + (j1 * n_x + i1) as usize];
-    let a = v00 + (v10 - v00) * tx;
-    let b = v01 + (v11 - v01) * tx;
-    a + (b - a) * ty
+    let (j0, j1, j2, w0, w1, w2) = roughness_taps(y, n_y);
+    let row = |j: u32| {
+        let a = lut[offset + (j * n_x + i0) as usize];
+        let b = lut[offset + (j * n_x + i1) as usize];
+        a + (b - a) * tx
+    };
+    row(j0) * w0 + row(j1) * w1 + row(j2) * w2
 }
 
 /// (n_mu, n_r, n_avg) of a LUT buffer.
@@ -264,7 +283,7 @@ pub fn lut_dims(lut: &[f32]) -> (u32, u32, u32) {
     (lut[0].to_bits(), lut[1].to_bits(), lut[2].to_bits())
 }
 
-/// E(mu, r) from the LUT buffer (bilinear, clamp to edge); NaN for NaN input.
+/// E(mu, r) from the LUT buffer (linear in mu, [`roughness_taps`] in r); NaN for NaN input.
 #[inline]
 pub fn lut_e(lut: &[f32], mu: f32, r: f32) -> f32 {
     if mu.is_nan() || r.is_nan() {
@@ -274,7 +293,7 @@ pub fn lut_e(lut: &[f32], mu: f32, r: f32) -> f32 {
     bilinear(lut, LUT_HEADER, n_mu, n_r, mu, r)
 }
 
-/// E'(mu, r) from the LUT buffer (bilinear, clamp to edge); NaN for NaN input.
+/// E'(mu, r) from the LUT buffer (linear in mu, [`roughness_taps`] in r); NaN for NaN input.
 #[inline]
 pub fn lut_e_prime(lut: &[f32], mu: f32, r: f32) -> f32 {
     if mu.is_nan() || r.is_nan() {
@@ -284,18 +303,16 @@ pub fn lut_e_prime(lut: &[f32], mu: f32, r: f32) -> f32 {
     bilinear(lut, LUT_HEADER + (n_mu * n_r) as usize, n_mu, n_r, mu, r)
 }
 
-/// E_avg(r) from the LUT buffer (linear, clamp to edge); NaN for NaN input.
+/// E_avg(r) from the LUT buffer ([`roughness_taps`]); NaN for NaN input.
 #[inline]
 pub fn lut_e_avg(lut: &[f32], r: f32) -> f32 {
     if r.is_nan() {
         return f32::NAN;
     }
     let (n_mu, n_r, n_avg) = lut_dims(lut);
-    let (i0, i1, t) = lerp_cells(r, n_avg);
+    let (j0, j1, j2, w0, w1, w2) = roughness_taps(r, n_avg);
     let off = LUT_HEADER + (2 * n_mu * n_r) as usize;
-    let a = lut[off + i0 as usize];
-    let b = lut[off + i1 as usize];
-    a + (b - a) * t
+    lut[off + j0 as usize] * w0 + lut[off + j1 as usize] * w1 + lut[off + j2 as usize] * w2
 }
 
 /// Average Schlick reflectance F_avg = 2 int F(mu) mu dmu = lerp(f0, f90, 1/21) (Kulla & Conty
