@@ -112,9 +112,10 @@ pub const MIN_LUT_CELLS: u32 = 8;
 pub const MIN_LUT_SAMPLES: u32 = 64;
 
 impl Tables {
-    /// E_avg(r) = 2 int E_lut(mu, r) mu dmu of the LUT's own E (linear in mu between cell
-    /// centers, clamped to the edge cells; the shader's roughness taps), integrated exactly in
-    /// f64 at the centers of the E_avg grid.
+    /// E_avg(r) = 2 int E_lut(mu, r) mu dmu of the LUT's own E (the shader's lookup,
+    /// `shader_core::energy::cell_taps`: linear in mu between cell centers, the edge value
+    /// below the first, the extrapolated quadratic above the last), integrated exactly in f64
+    /// at the centers of the E_avg grid.
     ///
     /// This, not the Monte-Carlo E_avg of the kernel, is what the LUT buffer carries: Kulla-Conty
     /// conserves energy only if E_avg is the integral of the E the shader reads. At low roughness
@@ -141,8 +142,22 @@ impl Tables {
                 };
                 let e = |i: usize| (0..3).map(|k| f64::from(self.e[rows[k] * n + i]) * w[k]).sum::<f64>();
                 let c = |i: usize| (i as f64 + 0.5) / n as f64;
-                // Constant below the first center and above the last: 2 int e mu dmu = e (b^2 - a^2).
-                let mut sum = e(0) * c(0) * c(0) + e(n - 1) * (1.0 - c(n - 1) * c(n - 1));
+                // Constant below the first center: 2 int e mu dmu = e (b^2 - a^2).
+                let mut sum = e(0) * c(0) * c(0);
+                // Above the last center, the shader extrapolates the quadratic through the last
+                // three centers: 2 int q(mu) mu dmu over [c(n-1), 1] by Simpson's rule (exact for
+                // the cubic integrand); constant when the table has fewer than 3 columns.
+                if n >= 3 {
+                    let q = |mu: f64| {
+                        let s = mu * n as f64 - 0.5 - (n - 3) as f64;
+                        e(n - 3) * (s - 1.0) * (s - 2.0) * 0.5 + e(n - 2) * s * (2.0 - s) + e(n - 1) * s * (s - 1.0) * 0.5
+                    };
+                    let (a, b) = (c(n - 1), 1.0);
+                    let m = 0.5 * (a + b);
+                    sum += 2.0 * (b - a) / 6.0 * (q(a) * a + 4.0 * q(m) * m + q(b) * b);
+                } else {
+                    sum += e(n - 1) * (1.0 - c(n - 1) * c(n - 1));
+                }
                 for i in 0..n - 1 {
                     // Linear from (a, ea) to (b, eb): 2 int (ea + s (mu - a)) mu dmu.
                     let (a, b, ea, eb) = (c(i), c(i + 1), e(i), e(i + 1));

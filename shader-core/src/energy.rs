@@ -243,36 +243,41 @@ fn lerp_cells(x: f32, n: u32) -> (u32, u32, f32) {
     (i0, i1, t - i0 as f32)
 }
 
-/// Weights of the roughness axis: three cells (j0, j1, j2) and their weights. Inside the cell
-/// centres, linear interpolation (w2 = 0); in the outer half cells (r below the first centre or
-/// above the last), the quadratic through the three outermost centres, extrapolated (Lagrange),
-/// so E at r = 1 follows the table's curvature instead of holding the value at the last centre
-/// (1 - 1/(2 n_r)). With fewer than three cells: linear, clamped to the edge.
+/// Interpolation taps of coordinate `x` in [0, 1] on `n` cells with centres (i + 0.5) / n:
+/// three cells (j0, j1, j2) and their weights. Between the centres, linear interpolation
+/// (w2 = 0). In the outer half cell at the low end (x below the first centre) when `low`, and at
+/// the high end when `high`, the quadratic through the three outermost centres, extrapolated
+/// (Lagrange); otherwise that half cell holds the edge value. With fewer than three cells:
+/// linear, clamped to the edge.
+///
+/// The roughness axis extrapolates at both ends (E at r = 1, glTF's default roughness, follows
+/// the table's curvature instead of holding the value at r = 1 - 1/(2 n_r)); the mu axis at the
+/// normal-incidence end only (E is smooth there; towards grazing angles 1 - E peaks sharply and
+/// the edge value is kept).
 #[inline]
-fn roughness_taps(y: f32, n: u32) -> (u32, u32, u32, f32, f32, f32) {
-    let t = y * n as f32 - 0.5;
+pub fn cell_taps(x: f32, n: u32, low: bool, high: bool) -> (u32, u32, u32, f32, f32, f32) {
+    let t = x * n as f32 - 0.5;
     let last = (n - 1) as f32;
-    if n >= 3 && (t < 0.0 || t > last) {
+    if n >= 3 && ((low && t < 0.0) || (high && t > last)) {
         let (j, s) = if t < 0.0 { (0u32, if t > -0.5 { t } else { -0.5 }) } else { (n - 3, (if t < last + 0.5 { t } else { last + 0.5 }) - (n - 3) as f32) };
         let w0 = (s - 1.0) * (s - 2.0) * 0.5;
         let w1 = s * (2.0 - s);
         let w2 = s * (s - 1.0) * 0.5;
         return (j, j + 1, j + 2, w0, w1, w2);
     }
-    let (i0, i1, f) = lerp_cells(y, n);
+    let (i0, i1, f) = lerp_cells(x, n);
     (i0, i1, i1, 1.0 - f, f, 0.0)
 }
 
-/// Lookup in the table at word `offset` of `lut`, n_x columns (mu) by n_y rows (roughness):
-/// linear in mu (clamp to edge), [`roughness_taps`] in roughness.
+/// Lookup in the table at word `offset` of `lut`, n_x columns (mu) by n_y rows (roughness), with
+/// [`cell_taps`] on both axes (mu: extrapolated at the high end; roughness: at both ends).
 #[inline]
 fn bilinear(lut: &[f32], offset: usize, n_x: u32, n_y: u32, x: f32, y: f32) -> f32 {
-    let (i0, i1, tx) = lerp_cells(x, n_x);
-    let (j0, j1, j2, w0, w1, w2) = roughness_taps(y, n_y);
+    let (i0, i1, i2, u0, u1, u2) = cell_taps(x, n_x, false, true);
+    let (j0, j1, j2, w0, w1, w2) = cell_taps(y, n_y, true, true);
     let row = |j: u32| {
-        let a = lut[offset + (j * n_x + i0) as usize];
-        let b = lut[offset + (j * n_x + i1) as usize];
-        a + (b - a) * tx
+        let o = offset + (j * n_x) as usize;
+        lut[o + i0 as usize] * u0 + lut[o + i1 as usize] * u1 + lut[o + i2 as usize] * u2
     };
     row(j0) * w0 + row(j1) * w1 + row(j2) * w2
 }
@@ -283,7 +288,7 @@ pub fn lut_dims(lut: &[f32]) -> (u32, u32, u32) {
     (lut[0].to_bits(), lut[1].to_bits(), lut[2].to_bits())
 }
 
-/// E(mu, r) from the LUT buffer (linear in mu, [`roughness_taps`] in r); NaN for NaN input.
+/// E(mu, r) from the LUT buffer (linear in mu, [`cell_taps`] in r); NaN for NaN input.
 #[inline]
 pub fn lut_e(lut: &[f32], mu: f32, r: f32) -> f32 {
     if mu.is_nan() || r.is_nan() {
@@ -293,7 +298,7 @@ pub fn lut_e(lut: &[f32], mu: f32, r: f32) -> f32 {
     bilinear(lut, LUT_HEADER, n_mu, n_r, mu, r)
 }
 
-/// E'(mu, r) from the LUT buffer (linear in mu, [`roughness_taps`] in r); NaN for NaN input.
+/// E'(mu, r) from the LUT buffer (linear in mu, [`cell_taps`] in r); NaN for NaN input.
 #[inline]
 pub fn lut_e_prime(lut: &[f32], mu: f32, r: f32) -> f32 {
     if mu.is_nan() || r.is_nan() {
@@ -303,14 +308,14 @@ pub fn lut_e_prime(lut: &[f32], mu: f32, r: f32) -> f32 {
     bilinear(lut, LUT_HEADER + (n_mu * n_r) as usize, n_mu, n_r, mu, r)
 }
 
-/// E_avg(r) from the LUT buffer ([`roughness_taps`]); NaN for NaN input.
+/// E_avg(r) from the LUT buffer ([`cell_taps`]); NaN for NaN input.
 #[inline]
 pub fn lut_e_avg(lut: &[f32], r: f32) -> f32 {
     if r.is_nan() {
         return f32::NAN;
     }
     let (n_mu, n_r, n_avg) = lut_dims(lut);
-    let (j0, j1, j2, w0, w1, w2) = roughness_taps(r, n_avg);
+    let (j0, j1, j2, w0, w1, w2) = cell_taps(r, n_avg, true, true);
     let off = LUT_HEADER + (2 * n_mu * n_r) as usize;
     lut[off + j0 as usize] * w0 + lut[off + j1 as usize] * w1 + lut[off + j2 as usize] * w2
 }

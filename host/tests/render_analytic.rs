@@ -1,0 +1,303 @@
+//! The path tracer against closed forms and against itself (CPU backend; the GPU gives the same
+//! bits, tests/tests/render_crosscheck.rs):
+//! * white furnace: a metal plane (base 1) under a uniform environment of radiance 1 reflects 1
+//!   within 1e-3 at every roughness with Turquin or Kulla-Conty compensation, and the energy
+//!   table's E(mu, r) without; a compensated dielectric plane reflects the furnace kernel's albedo;
+//! * a plane under a directional and a point light: every pixel equals f cos E (f from the
+//!   material, E = irradiance at normal incidence, or I / d^2) to 1e-5;
+//! * the three estimators (MIS, BSDF only, light only) agree on every 4x4 block of the built-in
+//!   scene within 6 standard errors, and the error falls as spp^-1/2;
+//! * the environment map's sampling density is what `pdf` says and integrates to 1.
+
+use host::energy::{self, Compensation, TableSpec};
+use host::render::environment::{self as env, EnvSpec};
+use host::render::scene::{LightKind, Mat4, Material, MeshData, PunctualLight, Scene, SceneBuilder};
+use host::render::{self, CameraSpec, RenderImage, RenderInputs};
+use host::Backend;
+use shader_core::pt::integrator::{RenderParams, STRATEGY_BSDF, STRATEGY_LIGHT, STRATEGY_MIS};
+use shader_core::pt::material::Material as Bsdf;
+use shader_core::pt::surface::MaterialPoint;
+use shader_core::Vec3;
+use std::sync::OnceLock;
+
+fn lut() -> &'static [f32] {
+    static LUT: OnceLock<Vec<f32>> = OnceLock::new();
+    LUT.get_or_init(|| energy::precompute(&Backend::Cpu, &TableSpec::default(), false).unwrap().0.lut_buffer())
+}
+
+/// A square of half size `s` at height 0 facing +y.
+fn plane(s: f32) -> MeshData {
+    MeshData {
+        name: "plane".into(),
+        positions: vec![[-s, 0.0, -s], [s, 0.0, -s], [s, 0.0, s], [-s, 0.0, s]],
+        normals: Some(vec![[0.0, 1.0, 0.0]; 4]),
+        indices: Some(vec![0, 2, 1, 0, 3, 2]),
+        ..MeshData::default()
+    }
+}
+
+fn plane_scene(m: Material, lights: &[PunctualLight]) -> Scene {
+    let mut b = SceneBuilder::new("test plane");
+    let id = b.material(m);
+    b.mesh(&plane(50.0), id, &Mat4::IDENTITY).unwrap();
+    for l in lights {
+        b.light(l.clone());
+    }
+    b.build().unwrap()
+}
+
+/// An orthographic camera looking at the origin from polar angle `theta` (in the xy plane).
+fn ortho_at(theta: f32) -> CameraSpec {
+    let wo = [theta.sin(), theta.cos(), 0.0];
+    CameraSpec { position: [5.0 * wo[0], 5.0 * wo[1], 0.0], forward: [-wo[0], -wo[1], 0.0], up: [0.0, 0.0, 1.0], yfov: None, mag: [0.5, 0.5] }
+}
+
+fn params(cam: &CameraSpec, w: u32, h: u32, strategy: u32, comp: Compensation, p_env: f32, max_depth: u32, seed: u32) -> RenderParams {
+    RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth, rr_depth: 64, strategy, compensation: comp.id(), clamp: 0.0, p_env, camera: cam.camera(w, h).unwrap() }
+}
+
+fn render(scene: &Scene, e: &env::Environment, p: &RenderParams, spp: u32) -> RenderImage {
+    let inputs = RenderInputs { scene: &scene.words, env: &e.words, lut: lut() };
+    render::render(&Backend::Cpu, &inputs, p, spp, spp, |_| {}).unwrap().0
+}
+
+fn mean(v: &[f32]) -> f64 {
+    v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64
+}
+
+/// Mean red radiance of the furnace plane seen from `theta`.
+fn furnace(m: Material, theta: f32, comp: Compensation) -> f64 {
+    let scene = plane_scene(m, &[]);
+    let white = env::build(&EnvSpec::Uniform([1.0; 3]), 1.0, 0.0).unwrap();
+    let p = params(&ortho_at(theta), 64, 64, STRATEGY_BSDF, comp, 1.0, 4, 1);
+    let img = render(&scene, &white, &p, 256);
+    let red: Vec<f32> = img.color.iter().step_by(3).copied().collect();
+    mean(&red)
+}
+
+#[test]
+fn white_furnace_metal_plane() {
+    for &r in &[0.1f32, 0.4, 0.7, 1.0] {
+        for &deg in &[0.0f32, 45.0, 70.0] {
+            let theta = deg.to_radians();
+            let m = Material::pbr("metal", [1.0; 3], 1.0, r);
+            for comp in [Compensation::Turquin, Compensation::KullaConty] {
+                let a = furnace(m.clone(), theta, comp);
+                eprintln!("{} r {r} theta {deg}: albedo {a}", comp.label());
+                assert!((a - 1.0).abs() < 1e-3, "{} r {r} theta {deg}: albedo {a}", comp.label());
+            }
+            let a = furnace(m, theta, Compensation::None);
+            let e = shader_core::energy::lut_e(lut(), theta.cos(), r) as f64;
+            assert!((a - e).abs() < 3e-3, "uncompensated r {r} theta {deg}: albedo {a}, E {e}");
+            if r >= 0.4 {
+                assert!(a < 1.0 - 5e-3, "uncompensated r {r} theta {deg}: albedo {a} should lose energy");
+            }
+        }
+    }
+}
+
+#[test]
+fn white_furnace_compensated_dielectric_matches_the_furnace_kernel() {
+    for &r in &[0.3f32, 0.8] {
+        let theta = 30f32.to_radians();
+        let base = 0.6;
+        let a = furnace(Material::pbr("plastic", [base; 3], 0.0, r), theta, Compensation::Turquin);
+        let fm = shader_core::energy::FurnaceMaterial { base, metallic: 0.0, roughness: r, mode: Compensation::Turquin.id(), min_roughness: shader_core::energy::COMPENSATION_MIN_ROUGHNESS };
+        let want = shader_core::energy::furnace_albedo(lut(), &fm, theta.cos(), 1 << 16, shader_core::energy::SEQ_SOBOL, 5, 0) as f64;
+        assert!((a - want).abs() < 4e-3, "r {r}: rendered {a}, furnace kernel {want}");
+    }
+}
+
+/// Direct lighting from one delta light on a plane: every pixel is f(wo, wi) cos(theta_i) E.
+fn delta_light_plane(light: PunctualLight, irradiance: impl Fn(Vec3) -> (Vec3, Vec3)) {
+    let m = Material::pbr("plastic", [0.5, 0.3, 0.2], 0.0, 0.5);
+    let scene = plane_scene(m.clone(), &[light]);
+    let black = env::build(&EnvSpec::Black, 1.0, 0.0).unwrap();
+    let theta = 40f32.to_radians();
+    let cam = ortho_at(theta);
+    let (w, h) = (16u32, 16u32);
+    let mut p = params(&cam, w, h, STRATEGY_MIS, Compensation::None, 0.0, 1, 3);
+    let camera = p.camera;
+    p.spp = 1;
+    let img = render(&scene, &black, &p, 1);
+    let wo = Vec3::new(theta.sin(), theta.cos(), 0.0);
+    let to_local = |v: Vec3| {
+        // The plane's shading frame: normal +y; the BSDF is isotropic, so any tangent will do.
+        Vec3::new(v.x, v.z, v.y)
+    };
+    let mp = MaterialPoint { base: Vec3::new(0.5, 0.3, 0.2), metallic: 0.0, roughness: 0.5, emission: Vec3::ZERO, transmission: 0.0, ior: 1.5, double_sided: 0 };
+    let bsdf = Bsdf::new(&mp, to_local(wo), lut(), Compensation::None.id());
+    let mut worst = 0.0f64;
+    for py in 0..h {
+        for px in 0..w {
+            // The kernel's jittered primary ray of sample 0 of this pixel: its first two numbers.
+            let mut rng = shader_core::pt::integrator::sample_rng(p.seed, py * w + px, 0);
+            let (jx, jy) = (rng.next_f32(), rng.next_f32());
+            let ray = camera.ray(px as f32 + jx, py as f32 + jy, w, h);
+            let t = -ray.o.y / ray.d.y;
+            let (wi, e) = irradiance(ray.at(t));
+            let f = bsdf.f(to_local(wo), to_local(wi), lut());
+            let want = f.mul_elem(e) * wi.y;
+            let i = (py * w + px) as usize * 3;
+            for (g, w_) in [(img.color[i], want.x), (img.color[i + 1], want.y), (img.color[i + 2], want.z)] {
+                worst = worst.max(((g - w_) as f64).abs() / (w_ as f64).abs());
+            }
+        }
+    }
+    // Rounding only: the kernel's hit point is the barycentric one, this test's the ray's.
+    assert!(worst < 1e-4, "largest relative difference from f cos I / d^2: {worst}");
+}
+
+#[test]
+fn directional_light_on_a_plane_is_f_cos_e() {
+    let dir = Vec3::new(-0.3, -0.8, 0.2).normalize();
+    let e = Vec3::new(2.0, 1.5, 1.0);
+    let light = PunctualLight { name: "sun".into(), kind: LightKind::Directional, position: [0.0; 3], direction: [dir.x, dir.y, dir.z], intensity: [e.x, e.y, e.z], range: 0.0 };
+    let m = Material::pbr("plastic", [0.5, 0.3, 0.2], 0.0, 0.5);
+    let scene = plane_scene(m, &[light]);
+    let black = env::build(&EnvSpec::Black, 1.0, 0.0).unwrap();
+    let theta = 40f32.to_radians();
+    let p = params(&ortho_at(theta), 8, 8, STRATEGY_MIS, Compensation::None, 0.0, 1, 3);
+    let img = render(&scene, &black, &p, 2);
+    let wo = Vec3::new(theta.sin(), theta.cos(), 0.0);
+    let local = |v: Vec3| Vec3::new(v.x, v.z, v.y);
+    let mp = MaterialPoint { base: Vec3::new(0.5, 0.3, 0.2), metallic: 0.0, roughness: 0.5, emission: Vec3::ZERO, transmission: 0.0, ior: 1.5, double_sided: 0 };
+    let bsdf = Bsdf::new(&mp, local(wo), lut(), Compensation::None.id());
+    let wi = -dir;
+    let want = bsdf.f(local(wo), local(wi), lut()).mul_elem(e) * wi.y;
+    for (k, px) in img.color.chunks_exact(3).enumerate() {
+        for (g, w) in [(px[0], want.x), (px[1], want.y), (px[2], want.z)] {
+            assert!(((g - w) / w).abs() < 1e-5, "pixel {k}: {g} vs f cos E = {w}");
+        }
+    }
+}
+
+#[test]
+fn point_light_on_a_plane_falls_off_as_inverse_square() {
+    let pos = Vec3::new(0.2, 1.5, -0.1);
+    let i = Vec3::new(3.0, 2.0, 1.0);
+    let light = PunctualLight { name: "bulb".into(), kind: LightKind::Point, position: [pos.x, pos.y, pos.z], direction: [0.0, -1.0, 0.0], intensity: [i.x, i.y, i.z], range: 0.0 };
+    delta_light_plane(light, |x| {
+        let v = pos - x;
+        let d2 = v.dot(v);
+        (v.normalize(), i / d2)
+    });
+}
+
+/// Independent renders of the built-in scene: per 4x4 block and channel, the mean over runs and
+/// its standard error.
+fn block_stats(strategy: u32, runs: u32, spp: u32) -> Vec<(f64, f64)> {
+    let scene = Scene::builtin(6);
+    let black = env::build(&EnvSpec::Black, 1.0, 0.0).unwrap();
+    let cam = CameraSpec::from_desc(&scene.cameras[0]);
+    let (w, h) = (24u32, 24u32);
+    let mut per_run: Vec<Vec<f64>> = Vec::new();
+    for run in 0..runs {
+        let p = params(&cam, w, h, strategy, Compensation::Turquin, 0.0, 5, 100 + run);
+        let img = render(&scene, &black, &p, spp);
+        let mut blocks = vec![0.0f64; (w / 4 * h / 4 * 3) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                for c in 0..3 {
+                    blocks[(((y / 4) * (w / 4) + x / 4) * 3 + c) as usize] += img.color[((y * w + x) * 3 + c) as usize] as f64 / 16.0;
+                }
+            }
+        }
+        per_run.push(blocks);
+    }
+    (0..per_run[0].len())
+        .map(|k| {
+            let n = runs as f64;
+            let m = per_run.iter().map(|r| r[k]).sum::<f64>() / n;
+            let var = per_run.iter().map(|r| (r[k] - m).powi(2)).sum::<f64>() / (n - 1.0);
+            (m, (var / n).sqrt())
+        })
+        .collect()
+}
+
+#[test]
+fn mis_bsdf_and_light_sampling_agree() {
+    let mis = block_stats(STRATEGY_MIS, 8, 16);
+    let bsdf = block_stats(STRATEGY_BSDF, 8, 16);
+    let light = block_stats(STRATEGY_LIGHT, 8, 16);
+    let lit = mis.iter().filter(|(m, _)| *m > 0.01).count();
+    assert!(lit > mis.len() / 2, "only {lit} of {} block values lit", mis.len());
+    for (name, other) in [("bsdf", &bsdf), ("light", &light)] {
+        let mut worst = 0.0f64;
+        for (k, (a, b)) in mis.iter().zip(other.iter()).enumerate() {
+            let se = (a.1 * a.1 + b.1 * b.1).sqrt().max(1e-4 * a.0.abs().max(1e-3));
+            let z = (a.0 - b.0).abs() / se;
+            worst = worst.max(z);
+            assert!(z < 6.0, "block value {k}: mis {} +- {} vs {name} {} +- {}", a.0, a.1, b.0, b.1);
+        }
+        eprintln!("mis vs {name}: largest difference {worst:.2} standard errors");
+    }
+}
+
+#[test]
+fn error_falls_as_one_over_sqrt_spp() {
+    let scene = Scene::builtin(6);
+    let black = env::build(&EnvSpec::Black, 1.0, 0.0).unwrap();
+    let cam = CameraSpec::from_desc(&scene.cameras[0]);
+    let (w, h) = (16u32, 16u32);
+    let reference = render(&scene, &black, &params(&cam, w, h, STRATEGY_MIS, Compensation::Turquin, 0.0, 5, 999), 2048);
+    let mut pts = Vec::new();
+    for spp in [4u32, 16, 64, 256] {
+        let img = render(&scene, &black, &params(&cam, w, h, STRATEGY_MIS, Compensation::Turquin, 0.0, 5, 7), spp);
+        let mse = img.color.iter().zip(&reference.color).map(|(a, b)| ((a - b) as f64).powi(2)).sum::<f64>() / img.color.len() as f64;
+        pts.push(((spp as f64).ln(), 0.5 * mse.ln()));
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    eprintln!("RMSE slope against spp: {slope:.3}");
+    assert!((slope + 0.5).abs() < 0.15, "RMSE falls as spp^{slope:.3}, expected spp^-0.5");
+}
+
+#[test]
+fn environment_map_density_is_consistent_and_normalized() {
+    let (w, h) = (32u32, 16u32);
+    let rgb: Vec<f32> = (0..w * h).flat_map(|i| { let (x, y) = (i % w, i / w); let hot = if (10..13).contains(&x) && (3..5).contains(&y) { 50.0 } else { 0.2 }; [hot, hot * 0.8, 0.1 + 0.01 * x as f32] }).collect();
+    let e = env::from_map(w, h, &rgb, 1.0, 25.0).unwrap();
+    let words = &e.words;
+    // Sampled pdf equals the density function at the sampled direction.
+    let mut rng = shader_core::rng::Pcg32::new(1, 2);
+    for _ in 0..20_000 {
+        let s = shader_core::pt::environment::sample(words, rng.next_f32(), rng.next_f32());
+        assert!(s.pdf > 0.0);
+        let p = shader_core::pt::environment::pdf(words, s.wi);
+        assert!(((p - s.pdf) / s.pdf).abs() < 1e-4, "pdf {p} vs sample pdf {}", s.pdf);
+        let l = shader_core::pt::environment::radiance(words, s.wi);
+        assert!((l.x - s.li.x).abs() <= 1e-6 * l.x.abs().max(1.0));
+    }
+    // The density integrates to 1 over the sphere (midpoint rule on a fine (theta, phi) grid).
+    let (nt, np) = (400, 800);
+    let mut integral = 0.0f64;
+    for i in 0..nt {
+        let th = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
+        for j in 0..np {
+            let ph = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
+            let d = Vec3::new((th.sin() * ph.cos()) as f32, th.cos() as f32, (th.sin() * ph.sin()) as f32);
+            integral += shader_core::pt::environment::pdf(words, d) as f64 * th.sin() * (std::f64::consts::PI / nt as f64) * (2.0 * std::f64::consts::PI / np as f64);
+        }
+    }
+    assert!((integral - 1.0).abs() < 5e-3, "density integrates to {integral}");
+    // Samples land in proportion to the density: the hot spot's share of samples against its
+    // share of the integral.
+    let hot_dir = |d: Vec3| shader_core::pt::environment::radiance(words, d).x > 10.0;
+    let n = 200_000;
+    let hits = (0..n).filter(|_| hot_dir(shader_core::pt::environment::sample(words, rng.next_f32(), rng.next_f32()).wi)).count() as f64 / n as f64;
+    let mut share = 0.0f64;
+    for i in 0..nt {
+        let th = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
+        for j in 0..np {
+            let ph = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
+            let d = Vec3::new((th.sin() * ph.cos()) as f32, th.cos() as f32, (th.sin() * ph.sin()) as f32);
+            if hot_dir(d) {
+                share += shader_core::pt::environment::pdf(words, d) as f64 * th.sin() * (std::f64::consts::PI / nt as f64) * (2.0 * std::f64::consts::PI / np as f64);
+            }
+        }
+    }
+    assert!(share > 0.3, "the hot spot should hold most of the density: {share}");
+    assert!((hits - share).abs() < 0.01, "hot spot: {hits} of the samples, {share} of the density");
+}
