@@ -190,6 +190,13 @@ impl SceneBuilder {
         if self.tris.len() > sc::LEAF_MAX_FIRST as usize {
             bail!("{}: {} triangles, more than the scene buffer's limit of {}", self.source, self.tris.len(), sc::LEAF_MAX_FIRST);
         }
+        for m in &self.materials {
+            for t in [m.base_color_texture, m.metallic_roughness_texture, m.normal_texture, m.emissive_texture, m.transmission_texture].into_iter().flatten() {
+                if t as usize >= self.textures.len() {
+                    bail!("{}: material '{}' refers to texture {t}, but there are {} textures", self.source, m.name, self.textures.len());
+                }
+            }
+        }
         if self.degenerate > 0 {
             let d = self.degenerate;
             self.warn(format!("{d} degenerate (zero-area) triangles dropped: a ray can never hit them"));
