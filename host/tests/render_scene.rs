@@ -201,8 +201,40 @@ fn build_time_by_scene_size() {
         let d = host::render::scene::builtin_detail_for_triangles(target);
         let s = Scene::builtin(d);
         check_bvh(&s);
+        // closest-hit rate of one thread (no shading): 128 x 128 camera rays, and as many rays
+        // between random points inside the box (like secondary rays); best of 5 (shared machine)
+        let cam = &s.cameras[0];
+        let o = Vec3::new(cam.position[0], cam.position[1], cam.position[2]);
+        let n = 128;
+        let tan = (20f32).to_radians().tan();
+        let camera: Vec<Ray> = (0..n * n)
+            .map(|k| {
+                let (x, y) = (k % n, k / n);
+                let (u, v) = ((x as f32 + 0.5) / n as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / n as f32 * 2.0);
+                Ray::new(o, Vec3::new(u * tan, v * tan, -1.0))
+            })
+            .collect();
+        let mut st = 5u64;
+        let inside: Vec<Ray> = (0..n * n)
+            .map(|_| {
+                let mut p = || Vec3::new(rnd(&mut st) * 1.9 - 0.95, rnd(&mut st) * 1.9 + 0.05, rnd(&mut st) * 1.9 - 0.95);
+                let a = p();
+                Ray::new(a, p() - a)
+            })
+            .collect();
+        let rate = |rays: &[Ray]| {
+            let mut best = 0.0f64;
+            for _ in 0..5 {
+                let t0 = std::time::Instant::now();
+                let hits: u32 = rays.iter().map(|r| bvh::closest_hit(&s.words, r, f32::INFINITY).is_hit() as u32).sum();
+                assert!(hits as usize > rays.len() / 2);
+                best = best.max(rays.len() as f64 / t0.elapsed().as_secs_f64());
+            }
+            best * 1e-6
+        };
+        let (rc, ri) = (rate(&camera), rate(&inside));
         println!(
-            "builtin detail {d}: {} triangles, {} nodes, {} leaves (max {} triangles), depth {}: build {:.3} s (obvhs {:.3} s)",
+            "builtin detail {d}: {} triangles, {} nodes, {} leaves (max {} triangles), depth {}: build {:.3} s (obvhs {:.3} s); closest hit, one thread: {rc:.2} M camera rays/s, {ri:.2} M rays/s inside the box",
             s.counts.triangles, s.counts.nodes, s.counts.leaves, s.counts.max_leaf_triangles, s.counts.bvh_depth, s.build_seconds, s.bvh_seconds
         );
     }
