@@ -96,15 +96,16 @@ impl SceneBuilder {
     /// Errors: an index or attribute array out of range, a non-finite position, a triangle
     /// count that is not a multiple of 3, an unknown material.
     pub fn mesh(&mut self, m: &MeshData, material: u32, transform: &Mat4) -> Result<usize> {
-        let name = &m.name;
+        // messages name the mesh as given ("mesh 3 ('chair') primitive 0" from the loader)
+        let name = if m.name.is_empty() { "mesh" } else { m.name.as_str() };
         let Some(mat) = self.materials.get(material as usize) else {
-            bail!("mesh '{name}': material {material} does not exist ({} materials)", self.materials.len());
+            bail!("{name}: material {material} does not exist ({} materials)", self.materials.len());
         };
         let nv = m.positions.len();
         for (attr, len) in [("NORMAL", m.normals.as_ref().map(|v| v.len())), ("TEXCOORD_0", m.uvs.as_ref().map(|v| v.len())), ("TANGENT", m.tangents.as_ref().map(|v| v.len()))] {
             if let Some(len) = len {
                 if len != nv {
-                    bail!("mesh '{name}': {attr} has {len} elements, POSITION has {nv}");
+                    bail!("{name}: {attr} has {len} elements, POSITION has {nv}");
                 }
             }
         }
@@ -113,20 +114,20 @@ impl SceneBuilder {
             None => (0..nv as u32).collect(),
         };
         if indices.len() % 3 != 0 {
-            bail!("mesh '{name}': {} indices is not a multiple of 3", indices.len());
+            bail!("{name}: {} indices is not a multiple of 3", indices.len());
         }
         if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i as usize >= nv) {
-            bail!("mesh '{name}': index {i} (element {k}) is out of range: the mesh has {nv} vertices");
+            bail!("{name}: index {i} (element {k}) is out of range: the mesh has {nv} vertices");
         }
         // world-space vertices, once per vertex
         let mut world = Vec::with_capacity(nv);
         for (k, p) in m.positions.iter().enumerate() {
             if !p.iter().all(|x| x.is_finite()) {
-                bail!("mesh '{name}': POSITION {k} is not finite: {p:?}");
+                bail!("{name}: POSITION {k} is not finite: {p:?}");
             }
             let w = transform.point(*p).map(|x| x as f32);
             if !w.iter().all(|x| x.is_finite()) {
-                bail!("mesh '{name}': POSITION {k} is not finite after its node transform: {w:?}");
+                bail!("{name}: POSITION {k} is not finite after its node transform: {w:?}");
             }
             world.push(w);
         }
@@ -145,9 +146,9 @@ impl SceneBuilder {
         let mat_name = mat.name.clone();
         if needs_tangents {
             if m.uvs.is_some() {
-                self.warn(format!("mesh '{name}': no TANGENT for the normal texture of material '{mat_name}'; per-triangle tangents computed from TEXCOORD_0"));
+                self.warn(format!("{name}: no TANGENT for the normal texture of material '{mat_name}'; per-triangle tangents computed from TEXCOORD_0"));
             } else {
-                self.warn(format!("mesh '{name}': the normal texture of material '{mat_name}' is ignored (no TANGENT and no TEXCOORD_0)"));
+                self.warn(format!("{name}: the normal texture of material '{mat_name}' is ignored (no TANGENT and no TEXCOORD_0)"));
             }
         }
         let before = self.tris.len();

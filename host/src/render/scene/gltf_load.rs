@@ -283,9 +283,9 @@ impl<'a> Loader<'a> {
         let data = MeshData { name: what.clone(), positions, normals, uvs, tangents, indices: Some(indices) };
         let material = self.material_index(p.material());
         self.b.mesh(&data, material, world).map_err(|e| {
-            let acc = p.get(&gltf::Semantic::Positions).map(|a| a.index());
-            let ind = p.indices().map(|a| a.index());
-            anyhow!("{}: {e} (POSITION accessor {acc:?}, indices accessor {ind:?})", self.file)
+            let acc = p.get(&gltf::Semantic::Positions).map(|a| format!("POSITION accessor {}", a.index()));
+            let ind = p.indices().map(|a| format!(", indices accessor {}", a.index()));
+            anyhow!("{}: {e} ({}{})", self.file, acc.unwrap_or_default(), ind.unwrap_or_default())
         })?;
         Ok(())
     }
