@@ -11,7 +11,6 @@ use shader_core::pt::triangle;
 use shader_core::Vec3;
 
 /// The shared Cornell box (`shared/` lies beside the repository).
-#[allow(dead_code)]
 const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
 
 /// Checks the flattened BVH: header, skip indices, leaf ranges covering every triangle exactly
@@ -202,9 +201,549 @@ fn build_time_by_scene_size() {
         let d = host::render::scene::builtin_detail_for_triangles(target);
         let s = Scene::builtin(d);
         check_bvh(&s);
+        // closest-hit rate of one thread (no shading): 128 x 128 camera rays, and as many rays
+        // between random points inside the box (like secondary rays); best of 5 (shared machine)
+        let cam = &s.cameras[0];
+        let o = Vec3::new(cam.position[0], cam.position[1], cam.position[2]);
+        let n = 128;
+        let tan = (20f32).to_radians().tan();
+        let camera: Vec<Ray> = (0..n * n)
+            .map(|k| {
+                let (x, y) = (k % n, k / n);
+                let (u, v) = ((x as f32 + 0.5) / n as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / n as f32 * 2.0);
+                Ray::new(o, Vec3::new(u * tan, v * tan, -1.0))
+            })
+            .collect();
+        let mut st = 5u64;
+        let inside: Vec<Ray> = (0..n * n)
+            .map(|_| {
+                let mut p = || Vec3::new(rnd(&mut st) * 1.9 - 0.95, rnd(&mut st) * 1.9 + 0.05, rnd(&mut st) * 1.9 - 0.95);
+                let a = p();
+                Ray::new(a, p() - a)
+            })
+            .collect();
+        let rate = |rays: &[Ray]| {
+            let mut best = 0.0f64;
+            for _ in 0..5 {
+                let t0 = std::time::Instant::now();
+                let hits: u32 = rays.iter().map(|r| bvh::closest_hit(&s.words, r, f32::INFINITY).is_hit() as u32).sum();
+                assert!(hits as usize > rays.len() / 2);
+                best = best.max(rays.len() as f64 / t0.elapsed().as_secs_f64());
+            }
+            best * 1e-6
+        };
+        let (rc, ri) = (rate(&camera), rate(&inside));
         println!(
-            "builtin detail {d}: {} triangles, {} nodes, {} leaves (max {} triangles), depth {}: build {:.3} s (obvhs {:.3} s)",
+            "builtin detail {d}: {} triangles, {} nodes, {} leaves (max {} triangles), depth {}: build {:.3} s (obvhs {:.3} s); closest hit, one thread: {rc:.2} M camera rays/s, {ri:.2} M rays/s inside the box",
             s.counts.triangles, s.counts.nodes, s.counts.leaves, s.counts.max_leaf_triangles, s.counts.bvh_depth, s.build_seconds, s.bvh_seconds
         );
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// glTF loading
+
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// Binary data and the accessors over it, for test-written glTF files.
+#[derive(Default)]
+struct Bin {
+    data: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Bin {
+    fn view(&mut self, bytes: &[u8]) -> usize {
+        while self.data.len() % 4 != 0 {
+            self.data.push(0);
+        }
+        self.views.push(json!({"buffer": 0, "byteOffset": self.data.len(), "byteLength": bytes.len()}));
+        self.data.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    /// A float accessor of `n`-component elements (`ty` = "VEC3", ...).
+    fn floats(&mut self, v: &[f32], ty: &str) -> usize {
+        let n = match ty {
+            "SCALAR" => 1,
+            "VEC2" => 2,
+            "VEC3" => 3,
+            _ => 4,
+        };
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        let mut a = json!({"bufferView": view, "componentType": 5126, "count": v.len() / n, "type": ty});
+        if ty == "VEC3" {
+            // f32::min / max skip NaN, so a NaN position still has the bounds glTF requires
+            let min: Vec<f32> = (0..3).map(|k| v.iter().skip(k).step_by(3).cloned().fold(f32::INFINITY, f32::min)).collect();
+            let max: Vec<f32> = (0..3).map(|k| v.iter().skip(k).step_by(3).cloned().fold(f32::NEG_INFINITY, f32::max)).collect();
+            a["min"] = json!(min);
+            a["max"] = json!(max);
+        }
+        self.accessors.push(a);
+        self.accessors.len() - 1
+    }
+
+    fn indices(&mut self, v: &[u16]) -> usize {
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        self.accessors.push(json!({"bufferView": view, "componentType": 5123, "count": v.len(), "type": "SCALAR"}));
+        self.accessors.len() - 1
+    }
+
+    /// A quad in z = 0 ([-1, 1]^2) facing +z with normals, uvs, tangents: a primitive's attributes.
+    fn quad(&mut self, z: f32, tangents: bool) -> Value {
+        let pos = self.floats(&[-1.0, -1.0, z, 1.0, -1.0, z, 1.0, 1.0, z, -1.0, 1.0, z], "VEC3");
+        let nrm = self.floats(&[0.0, 0.0, 1.0].repeat(4), "VEC3");
+        let uv = self.floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0], "VEC2");
+        let idx = self.indices(&[0, 1, 2, 0, 2, 3]);
+        let mut attrs = json!({"POSITION": pos, "NORMAL": nrm, "TEXCOORD_0": uv});
+        if tangents {
+            attrs["TANGENT"] = json!(self.floats(&[1.0, 0.0, 0.0, 1.0].repeat(4), "VEC4"));
+        }
+        json!({"attributes": attrs, "indices": idx})
+    }
+}
+
+/// Writes `doc` (with `bin`'s views and accessors, its buffer as `name`.bin) to `dir`/`name`.gltf.
+fn write_gltf(dir: &Path, name: &str, mut doc: Value, bin: &Bin) -> PathBuf {
+    doc["asset"] = json!({"version": "2.0"});
+    doc["bufferViews"] = json!(bin.views);
+    doc["accessors"] = json!(bin.accessors);
+    if doc.get("buffers").is_none() {
+        doc["buffers"] = json!([{"uri": format!("{name}.bin"), "byteLength": bin.data.len()}]);
+    }
+    std::fs::write(dir.join(format!("{name}.bin")), &bin.data).unwrap();
+    let p = dir.join(format!("{name}.gltf"));
+    std::fs::write(&p, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+    p
+}
+
+/// A minimal valid scene: one quad with the default material.
+fn one_quad(bin: &mut Bin) -> Value {
+    let prim = bin.quad(0.0, false);
+    json!({"scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [prim]}]})
+}
+
+fn load_err(p: &Path) -> String {
+    match Scene::load(p) {
+        Ok(s) => panic!("{} loaded ({} triangles), expected an error", p.display(), s.counts.triangles),
+        Err(e) => format!("{e:#}"),
+    }
+}
+
+#[test]
+fn cornell_box_loads_with_its_camera_and_materials() {
+    let s = Scene::load(CORNELL).expect("the shared Cornell box loads");
+    check_bvh(&s);
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    assert_eq!(s.counts.materials, 3);
+    let names: Vec<&str> = s.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["white", "red", "green"]);
+    assert_eq!(s.cameras.len(), 1);
+    let c = &s.cameras[0];
+    assert_eq!(c.position, [0.0, 1.0, 3.5]);
+    assert_eq!(c.forward, [0.0, 0.0, -1.0]);
+    assert_eq!(c.up, [0.0, 1.0, 0.0]);
+    match c.projection {
+        host::render::scene::Projection::Perspective { yfov, aspect } => {
+            assert_eq!(yfov, 0.7854);
+            assert_eq!(aspect, Some(1.0));
+        }
+        p => panic!("{p:?}"),
+    }
+    assert!(!s.has_lights(), "the file has no light of its own");
+    assert!(s.counts.triangles >= 30, "{}", s.counts.triangles);
+    check_traversal(&s, 20_000, 3);
+    // the box is closed except its front: a ray from the camera hits the back wall
+    let h = bvh::closest_hit(&s.words, &Ray::new(Vec3::new(0.0, 1.0, 3.5), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY);
+    assert!(h.is_hit());
+}
+
+#[test]
+fn feature_scene_loads_without_warnings_and_flattens_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    // textures: a 2x2 base colour (with alpha) and a 1x2 normal map
+    let base_px: [[u8; 4]; 4] = [[255, 0, 0, 255], [0, 255, 0, 128], [0, 0, 255, 0], [10, 20, 30, 40]];
+    let mut img = image::RgbaImage::new(2, 2);
+    for (k, px) in base_px.iter().enumerate() {
+        img.put_pixel(k as u32 % 2, k as u32 / 2, image::Rgba(*px));
+    }
+    img.save(dir.path().join("base.png")).unwrap();
+    let mut nimg = image::RgbaImage::new(1, 2);
+    nimg.put_pixel(0, 0, image::Rgba([128, 128, 255, 255]));
+    nimg.put_pixel(0, 1, image::Rgba([200, 100, 220, 255]));
+    nimg.save(dir.path().join("normal.png")).unwrap();
+
+    let mut bin = Bin::default();
+    let emissive_quad = bin.quad(0.0, true);
+    let mut mask_quad = bin.quad(-1.0, false);
+    mask_quad["material"] = json!(1);
+    let mut em = emissive_quad.clone();
+    em["material"] = json!(0);
+    let doc = json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior"],
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+        "nodes": [
+            {"mesh": 0, "translation": [0.0, 0.0, 0.5]},
+            {"name": "cam node", "camera": 0, "translation": [0.0, 0.0, 5.0]},
+            {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [1.0, 2.0, 3.0]},
+            {"extensions": {"KHR_lights_punctual": {"light": 1}}, "translation": [0.0, 4.0, 0.0], "rotation": [-0.70710677, 0.0, 0.0, 0.70710677]},
+            {"extensions": {"KHR_lights_punctual": {"light": 2}}, "rotation": [-0.70710677, 0.0, 0.0, 0.70710677]}
+        ],
+        "cameras": [{"name": "closeup", "type": "perspective", "perspective": {"yfov": 0.6, "znear": 0.1}}],
+        "meshes": [{"name": "quads", "primitives": [em, mask_quad]}],
+        "materials": [
+            {"name": "glow", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.6, 0.7, 1.0], "baseColorTexture": {"index": 0}, "metallicFactor": 0.25, "roughnessFactor": 0.75},
+             "normalTexture": {"index": 1, "scale": 0.8}, "emissiveFactor": [1.0, 0.5, 0.25],
+             "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}},
+            {"name": "cutout", "alphaMode": "MASK", "alphaCutoff": 0.3, "doubleSided": true,
+             "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.5}, "KHR_materials_ior": {"ior": 1.33}}}
+        ],
+        "textures": [{"source": 0, "sampler": 0}, {"source": 1}],
+        "samplers": [{"magFilter": 9728, "wrapS": 33071, "wrapT": 33648}],
+        "images": [{"uri": "base.png"}, {"uri": "normal.png"}],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"name": "bulb", "type": "point", "color": [1.0, 0.5, 0.25], "intensity": 10.0, "range": 5.0},
+            {"name": "spot", "type": "spot", "intensity": 20.0, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}},
+            {"name": "sun", "type": "directional", "color": [1.0, 1.0, 0.5], "intensity": 3.0}
+        ]}}
+    });
+    let p = write_gltf(dir.path(), "features", doc, &bin);
+    let s = Scene::load(&p).expect("loads");
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    check_bvh(&s);
+    let w = &s.words;
+    let f = |i: usize| sc::float(w, i);
+    // materials
+    assert_eq!(s.counts.materials, 2);
+    let m0 = |k: usize| sc::material(w, 0, k);
+    assert_eq!([f(m0(sc::M_BASE)), f(m0(sc::M_BASE + 1)), f(m0(sc::M_BASE + 2)), f(m0(sc::M_BASE + 3))], [0.5, 0.6, 0.7, 1.0]);
+    assert_eq!((f(m0(sc::M_METALLIC)), f(m0(sc::M_ROUGHNESS))), (0.25, 0.75));
+    assert_eq!([f(m0(sc::M_EMISSIVE)), f(m0(sc::M_EMISSIVE + 1)), f(m0(sc::M_EMISSIVE + 2))], [4.0, 2.0, 1.0], "factor x strength");
+    assert_eq!(f(m0(sc::M_NORMAL_SCALE)), 0.8);
+    assert_eq!(word(w, m0(sc::M_ALPHA_MODE)), sc::ALPHA_OPAQUE);
+    assert_eq!(word(w, m0(sc::M_BASE_TEX)), 0);
+    assert_eq!(word(w, m0(sc::M_NORMAL_TEX)), 1);
+    assert_eq!(word(w, m0(sc::M_MR_TEX)), sc::NONE);
+    assert_eq!(word(w, m0(sc::M_DOUBLE_SIDED)), 0);
+    assert_eq!(f(m0(sc::M_IOR)), 1.5);
+    let m1 = |k: usize| sc::material(w, 1, k);
+    assert_eq!(word(w, m1(sc::M_ALPHA_MODE)), sc::ALPHA_MASK);
+    assert_eq!(f(m1(sc::M_ALPHA_CUTOFF)), 0.3);
+    assert_eq!(word(w, m1(sc::M_DOUBLE_SIDED)), 1);
+    assert_eq!((f(m1(sc::M_TRANSMISSION)), f(m1(sc::M_IOR))), (0.5, 1.33));
+    assert_eq!(word(w, m1(sc::M_BASE_TEX)), 0, "the shared texture is decoded once");
+    // textures and texels
+    assert_eq!(s.counts.textures, 2);
+    assert_eq!(s.counts.texel_bytes, 4 * (4 + 2));
+    let t0 = |k: usize| word(w, sc::texture(w, 0, k));
+    assert_eq!((t0(sc::T_WIDTH), t0(sc::T_HEIGHT)), (2, 2));
+    assert_eq!((t0(sc::T_WRAP_S), t0(sc::T_WRAP_T), t0(sc::T_NEAREST)), (sc::WRAP_CLAMP, sc::WRAP_MIRROR, 1));
+    let t1 = |k: usize| word(w, sc::texture(w, 1, k));
+    assert_eq!((t1(sc::T_WRAP_S), t1(sc::T_WRAP_T), t1(sc::T_NEAREST), t1(sc::T_TEXELS)), (sc::WRAP_REPEAT, sc::WRAP_REPEAT, 0, 4));
+    let texels = header(w, sc::H_TEXELS_OFF) as usize;
+    for (k, px) in base_px.iter().enumerate() {
+        assert_eq!(word(w, texels + k), u32::from_le_bytes(*px), "texel {k}");
+    }
+    assert_eq!(word(w, texels + 5), u32::from_le_bytes([200, 100, 220, 255]));
+    // lights: the three punctual ones in node order, then the emissive quad's two triangles
+    assert_eq!((s.counts.punctual_lights, s.counts.emissive_triangles, s.counts.lights), (3, 2, 5));
+    let l = |i: u32, k: usize| sc::light(w, i, k);
+    assert_eq!(word(w, l(0, sc::L_TYPE)), sc::LIGHT_POINT);
+    assert_eq!(sc::vec3(w, l(0, sc::L_POSITION)), Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(sc::vec3(w, l(0, sc::L_INTENSITY)), Vec3::new(10.0, 5.0, 2.5));
+    assert_eq!(f(l(0, sc::L_RANGE)), 5.0);
+    assert_eq!(word(w, l(1, sc::L_TYPE)), sc::LIGHT_SPOT);
+    let d = sc::vec3(w, l(1, sc::L_DIRECTION));
+    assert!((d - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-6, "the spot points down its node's -Z: {d:?}");
+    assert_eq!((f(l(1, sc::L_COS_INNER)), f(l(1, sc::L_COS_OUTER))), (0.2f64.cos() as f32, 0.5f64.cos() as f32));
+    assert_eq!(f(l(1, sc::L_RANGE)), 0.0, "no range: infinite");
+    assert_eq!(word(w, l(2, sc::L_TYPE)), sc::LIGHT_DIRECTIONAL);
+    assert_eq!(sc::vec3(w, l(2, sc::L_INTENSITY)), Vec3::new(3.0, 3.0, 1.5));
+    for i in 3..5 {
+        assert_eq!(word(w, l(i, sc::L_TYPE)), sc::LIGHT_TRIANGLE);
+        let t = word(w, l(i, sc::L_TRIANGLE));
+        assert_eq!(word(w, sc::shading(w, t, sc::S_LIGHT)), i);
+        assert_eq!(word(w, sc::shading(w, t, sc::S_MATERIAL)), 0);
+        assert_eq!(f(l(i, sc::L_AREA)), 2.0);
+        let flags = word(w, sc::shading(w, t, sc::S_FLAGS));
+        assert_eq!(flags, sc::SF_NORMALS | sc::SF_UVS | sc::SF_TANGENTS);
+    }
+    // the camera
+    let c = s.camera("closeup").expect("named camera");
+    assert_eq!((c.position, c.forward, c.up), ([0.0, 0.0, 5.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]));
+    assert_eq!(c.projection, host::render::scene::Projection::Perspective { yfov: 0.6, aspect: None });
+    // the mesh node's translation: the emissive quad at z = 0.5, the masked one at z = -0.5
+    let h = bvh::closest_hit(w, &Ray::new(Vec3::new(0.1, 0.1, 5.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY);
+    assert_eq!(h.t, 4.5);
+    // the masked quad: alpha factor 1 x texel alpha; (u, v) = (0.75, 0.25) is texel (1, 0), alpha 128/255 >= 0.3
+    // and (0.75, 0.75) is texel (1, 1), alpha 40/255 < 0.3: rays pass there (nearest sampling)
+    let below = |x: f32, y: f32| bvh::closest_hit(w, &Ray::new(Vec3::new(x, y, 0.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY);
+    assert!(below(0.5, 0.5).is_hit(), "uv (0.75, 0.25): kept");
+    assert!(!below(0.5, -0.5).is_hit(), "uv (0.75, 0.75): cut out");
+}
+
+#[test]
+fn glb_and_data_uris_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    doc["asset"] = json!({"version": "2.0"});
+    doc["bufferViews"] = json!(bin.views);
+    doc["accessors"] = json!(bin.accessors);
+    // data URI
+    let b64 = {
+        const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut s = String::new();
+        for c in bin.data.chunks(3) {
+            let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
+            for k in 0..4 {
+                if k <= c.len() {
+                    s.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+                } else {
+                    s.push('=');
+                }
+            }
+        }
+        s
+    };
+    let mut d = doc.clone();
+    d["buffers"] = json!([{"uri": format!("data:application/octet-stream;base64,{b64}"), "byteLength": bin.data.len()}]);
+    let p = dir.path().join("data.gltf");
+    std::fs::write(&p, d.to_string()).unwrap();
+    let s = Scene::load(&p).expect("data URI");
+    assert_eq!(s.counts.triangles, 2);
+    // GLB: header, JSON chunk, BIN chunk
+    let mut d = doc.clone();
+    d["buffers"] = json!([{"byteLength": bin.data.len()}]);
+    let mut js = d.to_string().into_bytes();
+    while js.len() % 4 != 0 {
+        js.push(b' ');
+    }
+    let mut data = bin.data.clone();
+    while data.len() % 4 != 0 {
+        data.push(0);
+    }
+    let total = 12 + 8 + js.len() + 8 + data.len();
+    let mut glb = Vec::new();
+    glb.extend(b"glTF");
+    glb.extend(2u32.to_le_bytes());
+    glb.extend((total as u32).to_le_bytes());
+    glb.extend((js.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(&js);
+    glb.extend((data.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(&data);
+    let p = dir.path().join("scene.glb");
+    std::fs::write(&p, glb).unwrap();
+    let s = Scene::load(&p).expect("GLB");
+    assert_eq!(s.counts.triangles, 2);
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn hierarchy_strips_fans_mirroring_and_default_material() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bin = Bin::default();
+    let pos = bin.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0], "VEC3");
+    let nrm = bin.floats(&[0.0, 0.0, 1.0].repeat(4), "VEC3");
+    let fan_pos = bin.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0], "VEC3");
+    let doc = json!({
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [
+            {"translation": [10.0, 0.0, 0.0], "children": [1, 2]},
+            {"mesh": 0, "matrix": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0]},
+            {"mesh": 1, "scale": [-1.0, 1.0, 1.0], "translation": [0.0, 0.0, -2.0]}
+        ],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": pos, "NORMAL": nrm}, "mode": 5}]},
+            {"primitives": [{"attributes": {"POSITION": fan_pos, "NORMAL": nrm}, "mode": 6}]}
+        ]
+    });
+    let p = write_gltf(dir.path(), "h", doc, &bin);
+    let s = Scene::load(&p).unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    assert_eq!(s.counts.triangles, 4, "a 4-vertex strip and a 4-vertex fan: 2 triangles each");
+    assert_eq!(s.counts.materials, 1, "the glTF default material");
+    assert_eq!(s.materials[0], host::render::scene::Material::default());
+    assert_eq!((s.materials[0].base_color, s.materials[0].metallic, s.materials[0].roughness), ([1.0; 4], 1.0, 1.0));
+    // parent translation + child matrix: the strip at x in [10, 11], z = 1; the mirrored fan at x in [9, 10], z = -2
+    assert_eq!(s.bounds.min, [9.0, 0.0, -2.0]);
+    assert_eq!(s.bounds.max, [11.0, 1.0, 1.0]);
+    let w = &s.words;
+    for t in 0..4 {
+        let (a, b, c) = sc::triangle(w, t);
+        let ng = (b - a).cross(c - a);
+        assert!(ng.z > 0.0, "triangle {t}: the winding (flipped for the mirrored node) keeps facing +z: {ng:?}");
+        let n0 = sc::vec3(w, sc::shading(w, t, sc::S_NORMALS));
+        assert_eq!(n0, Vec3::new(0.0, 0.0, 1.0), "normals through the inverse transpose");
+    }
+}
+
+#[test]
+fn unsupported_features_are_named_in_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bin = Bin::default();
+    let mut prim = bin.quad(0.0, false);
+    prim["material"] = json!(0);
+    let pts = bin.floats(&[0.0, 0.0, 0.0, 1.0, 1.0, 1.0], "VEC3");
+    let uv1 = bin.floats(&[0.0; 8], "VEC2");
+    prim["attributes"]["TEXCOORD_1"] = json!(uv1);
+    let mut png = image::RgbaImage::new(1, 1);
+    png.put_pixel(0, 0, image::Rgba([1, 2, 3, 4]));
+    png.save(dir.path().join("t.png")).unwrap();
+    let doc = json!({
+        "extensionsUsed": ["KHR_texture_transform", "KHR_materials_clearcoat"],
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [prim, {"attributes": {"POSITION": pts}, "mode": 0}]}],
+        "materials": [{"name": "glass", "alphaMode": "BLEND", "occlusionTexture": {"index": 0},
+                       "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}}}],
+        "textures": [{"source": 0}], "images": [{"uri": "t.png"}]
+    });
+    let p = write_gltf(dir.path(), "w", doc, &bin);
+    let s = Scene::load(&p).unwrap();
+    let all = s.warnings.join("\n");
+    for needle in ["KHR_texture_transform", "KHR_materials_clearcoat", "BLEND", "occlusionTexture", "TEXCOORD_1", "Points"] {
+        assert!(all.contains(needle), "no warning names {needle}:\n{all}");
+    }
+    let m = sc::material(&s.words, 0, sc::M_ALPHA_MODE);
+    assert_eq!(word(&s.words, m), sc::ALPHA_MASK, "BLEND as MASK");
+    assert_eq!(sc::float(&s.words, m + 1), 0.5);
+}
+
+#[test]
+fn a_normal_map_without_tangents_gets_computed_ones_and_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bin = Bin::default();
+    let mut prim = bin.quad(0.0, false);
+    prim["material"] = json!(0);
+    image::RgbaImage::new(1, 1).save(dir.path().join("n.png")).unwrap();
+    let doc = json!({
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [prim]}],
+        "materials": [{"normalTexture": {"index": 0}}], "textures": [{"source": 0}], "images": [{"uri": "n.png"}]
+    });
+    let s = Scene::load(write_gltf(dir.path(), "n", doc, &bin)).unwrap();
+    assert!(s.warnings.iter().any(|w| w.contains("tangents computed")), "{:?}", s.warnings);
+    let w = &s.words;
+    for t in 0..2 {
+        assert_ne!(word(w, sc::shading(w, t, sc::S_FLAGS)) & sc::SF_TANGENTS, 0);
+        let o = sc::shading(w, t, sc::S_TANGENTS);
+        // u grows with x, v (downwards in the image) grows with -y: tangent +x, bitangent +y, w = +1
+        assert_eq!(sc::vec3(w, o), Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(sc::float(w, o + 3), 1.0);
+    }
+}
+
+#[test]
+fn degenerate_triangles_are_dropped_with_their_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bin = Bin::default();
+    let pos = bin.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 2.0, 0.0, 0.0], "VEC3");
+    let idx = bin.indices(&[0, 1, 2, 0, 1, 3, 2, 2, 1]);
+    let doc = json!({"scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                     "meshes": [{"primitives": [{"attributes": {"POSITION": pos}, "indices": idx}]}]});
+    let s = Scene::load(write_gltf(dir.path(), "d", doc, &bin)).unwrap();
+    assert_eq!(s.counts.triangles, 1);
+    assert_eq!(s.counts.degenerate, 2);
+    assert!(s.warnings.iter().any(|w| w.contains("2 degenerate")), "{:?}", s.warnings);
+}
+
+#[test]
+fn bad_scenes_give_errors_naming_the_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // malformed JSON
+    let p = d.join("bad.gltf");
+    std::fs::write(&p, "{ \"asset\": { \"version\": \"2.0\" }, ").unwrap();
+    let e = load_err(&p);
+    assert!(e.contains("bad.gltf") && e.contains("malformed"), "{e}");
+    // a missing file
+    let e = load_err(&d.join("nope.gltf"));
+    assert!(e.contains("nope.gltf"), "{e}");
+    // missing buffer file
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    doc["buffers"] = json!([{"uri": "missing.bin", "byteLength": bin.data.len()}]);
+    let e = load_err(&write_gltf(d, "nobuf", doc, &bin));
+    assert!(e.contains("buffer 0") && e.contains("missing.bin"), "{e}");
+    // a buffer shorter than its byteLength
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    doc["buffers"] = json!([{"uri": "short.bin", "byteLength": bin.data.len() + 100}]);
+    let e = load_err(&write_gltf(d, "short", doc, &bin));
+    assert!(e.contains("buffer 0") && e.contains("byteLength"), "{e}");
+    // an index out of range
+    let mut bin = Bin::default();
+    let pos = bin.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], "VEC3");
+    let idx = bin.indices(&[0, 1, 7]);
+    let doc = json!({"scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                     "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": pos}, "indices": idx}]}]});
+    let e = load_err(&write_gltf(d, "index", doc, &bin));
+    assert!(e.contains("index 7") && e.contains("out of range") && e.contains("mesh 0 ('tri') primitive 0"), "{e}");
+    // an accessor reading past its buffer view
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    bin.accessors[0]["count"] = json!(400);
+    doc["x"] = json!(0);
+    let e = load_err(&write_gltf(d, "acc", doc, &bin));
+    assert!(e.contains("accessor 0") || e.contains("accessors[0]"), "{e}");
+    // a JSON index out of range (a node's mesh)
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    doc["nodes"][0]["mesh"] = json!(5);
+    let e = load_err(&write_gltf(d, "meshidx", doc, &bin));
+    assert!(e.contains("nodes[0].mesh") && e.to_lowercase().contains("index"), "{e}");
+    // NaN positions
+    let mut bin = Bin::default();
+    let pos = bin.floats(&[0.0, 0.0, 0.0, 1.0, f32::NAN, 0.0, 0.0, 1.0, 0.0], "VEC3");
+    let doc = json!({"scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                     "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]});
+    let e = load_err(&write_gltf(d, "nan", doc, &bin));
+    assert!(e.contains("POSITION 1") && e.contains("not finite") && e.contains("mesh 0"), "{e}");
+    // an unsupported required extension
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    doc["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
+    doc["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+    let e = load_err(&write_gltf(d, "ext", doc, &bin));
+    assert!(e.contains("extensionsRequired") && e.contains("KHR_draco_mesh_compression"), "{e}");
+    // no triangles
+    let bin = Bin::default();
+    let doc = json!({"scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"name": "empty"}]});
+    let e = load_err(&write_gltf(d, "empty", doc, &bin));
+    assert!(e.contains("no triangles"), "{e}");
+    // only degenerate triangles
+    let mut bin = Bin::default();
+    let pos = bin.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0], "VEC3");
+    let doc = json!({"scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                     "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]});
+    let e = load_err(&write_gltf(d, "degen", doc, &bin));
+    assert!(e.contains("no triangles") && e.contains("1 degenerate"), "{e}");
+    // a missing image
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+    doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    doc["textures"] = json!([{"source": 0}]);
+    doc["images"] = json!([{"uri": "lost.png"}]);
+    let e = load_err(&write_gltf(d, "img", doc, &bin));
+    assert!(e.contains("image 0") && e.contains("lost.png"), "{e}");
+    // an undecodable image
+    std::fs::write(d.join("junk.png"), b"not a png").unwrap();
+    let mut bin = Bin::default();
+    let mut doc = one_quad(&mut bin);
+    doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+    doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    doc["textures"] = json!([{"source": 0}]);
+    doc["images"] = json!([{"uri": "junk.png"}]);
+    let e = load_err(&write_gltf(d, "junk", doc, &bin));
+    assert!(e.contains("image 0") && e.contains("decode"), "{e}");
 }

@@ -87,14 +87,11 @@ fn slab(lo: f32, hi: f32, o: f32, inv_d: f32, t0: f32, t1: f32) -> (f32, f32) {
 /// robust: the far distance is scaled by [`SLAB_FAR_SCALE`]; t = t_max counts as a meeting).
 #[inline]
 pub fn box_hit(lo: Vec3, hi: Vec3, r: &TraversalRay, t_max: f32) -> bool {
+    // No early exit after an empty axis: t0 only grows and t1 only shrinks, so an empty
+    // interval stays empty (and NaNs never enter t0, t1), the same answer as PBRT's early outs
+    // without the nesting each return costs under Mesa.
     let (t0, t1) = slab(lo.x, hi.x, r.o.x, r.inv_d.x, 0.0, t_max);
-    if t0 > t1 {
-        return false;
-    }
     let (t0, t1) = slab(lo.y, hi.y, r.o.y, r.inv_d.y, t0, t1);
-    if t0 > t1 {
-        return false;
-    }
     let (t0, t1) = slab(lo.z, hi.z, r.o.z, r.inv_d.z, t0, t1);
     t0 <= t1
 }

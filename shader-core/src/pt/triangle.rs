@@ -109,7 +109,9 @@ fn xor_sign(x: f32, sign_of: f32) -> f32 {
 /// (vertices, origin, direction, `t_max`) never hits. `t_max` may be +inf.
 #[inline]
 pub fn intersect(o: Vec3, pre: &RayPrecompute, v0: Vec3, v1: Vec3, v2: Vec3, t_max: f32) -> TriangleHit {
-    let miss = TriangleHit { t: 0.0, b1: 0.0, b2: 0.0, hit: false };
+    // single exit (no early returns): each early return of an inlined function nests the rest
+    // of a kernel one level deeper under Mesa (see `crate::buffer`)
+    let mut out = TriangleHit { t: 0.0, b1: 0.0, b2: 0.0, hit: false };
     let a = v0 - o;
     let b = v1 - o;
     let c = v2 - o;
@@ -123,26 +125,24 @@ pub fn intersect(o: Vec3, pre: &RayPrecompute, v0: Vec3, v1: Vec3, v2: Vec3, t_m
     let u = cx * by - cy * bx;
     let v = ax * cy - ay * cx;
     let w = bx * ay - by * ax;
-    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
-        return miss;
-    }
+    // outside only when the edge functions have strictly opposite signs (0 counts as inside)
+    let outside = (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0);
     let det = u + v + w;
-    if !(det != 0.0) {
-        // zero (degenerate or edge-on) or NaN
-        return miss;
+    // det = 0 (degenerate or edge-on) or NaN: no hit
+    if !outside && det != 0.0 {
+        let t_scaled = u * (pre.sz * a_z) + v * (pre.sz * b_z) + w * (pre.sz * c_z);
+        let t_signed = xor_sign(t_scaled, det);
+        let det_abs = xor_sign(det, det);
+        // 0 < T / det < t_max without dividing: the division is only paid for closer hits
+        if t_signed > 0.0 && t_signed < t_max * det_abs {
+            let rcp = ieee::div(1.0, det);
+            let t = t_scaled * rcp;
+            if t > 0.0 && t < t_max {
+                out = TriangleHit { t, b1: v * rcp, b2: w * rcp, hit: true };
+            }
+        }
     }
-    let t_scaled = u * (pre.sz * a_z) + v * (pre.sz * b_z) + w * (pre.sz * c_z);
-    let t_signed = xor_sign(t_scaled, det);
-    let det_abs = xor_sign(det, det);
-    if !(t_signed > 0.0) || !(t_signed < t_max * det_abs) {
-        return miss;
-    }
-    let rcp = ieee::div(1.0, det);
-    let t = t_scaled * rcp;
-    if !(t > 0.0 && t < t_max) {
-        return miss;
-    }
-    TriangleHit { t, b1: v * rcp, b2: w * rcp, hit: true }
+    out
 }
 
 #[cfg(test)]

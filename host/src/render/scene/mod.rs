@@ -13,7 +13,8 @@ mod gltf_load;
 mod math;
 
 pub use builder::SceneBuilder;
-pub use builtin::{builtin_detail_for_triangles, DEFAULT_DETAIL};
+pub use builder::{luminance, material_words};
+pub use builtin::{builtin_detail_for_triangles, builtin_triangles, uv_sphere, DEFAULT_DETAIL};
 pub use math::Mat4;
 
 /// glTF `alphaMode`: how the base colour's alpha is used.
