@@ -1,8 +1,10 @@
 //! The path tracer against closed forms and against itself (CPU backend; the GPU gives the same
 //! bits, tests/tests/render_crosscheck.rs):
-//! * white furnace: a metal plane (base 1) under a uniform environment of radiance 1 reflects 1
-//!   within 1e-3 at every roughness with Turquin or Kulla-Conty compensation, and the energy
-//!   table's E(mu, r) without; a compensated dielectric plane reflects the furnace kernel's albedo;
+//! * white furnace: the compensated metal (base 1) reflects 1 within 1e-3 at every roughness and
+//!   angle with Turquin or Kulla-Conty, and the energy table's E(mu, r) without (stratified
+//!   estimate of the material's integral); rendered on a plane under a uniform environment it
+//!   gives the same within the Monte-Carlo error; a compensated dielectric plane renders the
+//!   furnace kernel's albedo;
 //! * a plane under a directional and a point light: every pixel equals f cos E (f from the
 //!   material, E = irradiance at normal incidence, or I / d^2) to 1e-5;
 //! * the three estimators (MIS, BSDF only, light only) agree on every 4x4 block of the built-in
@@ -75,24 +77,78 @@ fn furnace(m: Material, theta: f32, comp: Compensation) -> f64 {
     mean(&red)
 }
 
-#[test]
-fn white_furnace_metal_plane() {
-    for &r in &[0.1f32, 0.4, 0.7, 1.0] {
-        for &deg in &[0.0f32, 45.0, 70.0] {
-            let theta = deg.to_radians();
-            let m = Material::pbr("metal", [1.0; 3], 1.0, r);
-            for comp in [Compensation::Turquin, Compensation::KullaConty] {
-                let a = furnace(m.clone(), theta, comp);
-                eprintln!("{} r {r} theta {deg}: albedo {a}", comp.label());
-                assert!((a - 1.0).abs() < 1e-3, "{} r {r} theta {deg}: albedo {a}", comp.label());
+/// int f(wo, wi) cos dwi of the path tracer's material over a stratified 512 x 512 grid of
+/// (u0, u1): two samples per point, the material's own and a cosine-weighted one, combined by
+/// the balance heuristic (the cosine samples cover the Kulla-Conty lobe, which the visible-normal
+/// samples of a low roughness reach only in their tails).
+fn material_albedo(m: &MaterialPoint, theta: f32, comp: Compensation) -> f64 {
+    let wo = Vec3::new(theta.sin(), 0.0, theta.cos());
+    let bsdf = Bsdf::new(m, wo, lut(), comp.id());
+    let n = 512;
+    let mut sum = 0.0f64;
+    let term = |wi: Vec3| -> f64 {
+        let p = 0.5 * bsdf.pdf(wo, wi) as f64 + 0.5 * (wi.z.max(0.0) as f64 / std::f64::consts::PI);
+        if p > 0.0 {
+            bsdf.f(wo, wi, lut()).x as f64 * wi.z.abs() as f64 / p
+        } else {
+            0.0
+        }
+    };
+    for i in 0..n {
+        for j in 0..n {
+            let (u0, u1) = ((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+            let s = bsdf.sample(wo, 0.5, u0, u1, lut());
+            if s.is_valid() && s.pdf > 0.0 {
+                sum += 0.5 * term(s.wi);
             }
-            let a = furnace(m, theta, Compensation::None);
-            let e = shader_core::energy::lut_e(lut(), theta.cos(), r) as f64;
-            assert!((a - e).abs() < 3e-3, "uncompensated r {r} theta {deg}: albedo {a}, E {e}");
-            if r >= 0.4 {
-                assert!(a < 1.0 - 5e-3, "uncompensated r {r} theta {deg}: albedo {a} should lose energy");
+            sum += 0.5 * term(shader_core::warp::sample_cosine_hemisphere(u0, u1));
+        }
+    }
+    sum / (n * n) as f64
+}
+
+#[test]
+fn white_furnace_compensated_metal_conserves_energy() {
+    // For base colour 1 (F = 1) the formulas predict, with E the true directional albedo (f64
+    // quadrature) and E_t the table's: Turquin E / E_t, Kulla-Conty E + (1 - E_t) (its E_avg is
+    // the table's own integral), none E. Each must hold to the stratified estimate's accuracy,
+    // and with the default 32 x 32 table the compensated albedo is 1 within 1e-3 everywhere.
+    let q = reference::energy::Quadrature::default();
+    let mut worst = 0.0f64;
+    for &r in &[0.1f32, 0.25, 0.4, 0.55, 0.7, 0.85, 1.0] {
+        for &deg in &[0.0f32, 45.0, 70.0] {
+            let mp = MaterialPoint { base: Vec3::new(1.0, 1.0, 1.0), metallic: 1.0, roughness: r, emission: Vec3::ZERO, transmission: 0.0, ior: 1.5, double_sided: 0 };
+            let theta = deg.to_radians();
+            let mu = theta.cos();
+            let e = reference::energy::albedo(mu as f64, (r * r) as f64, &q).0;
+            let e_t = shader_core::energy::lut_e(lut(), mu, r) as f64;
+            for (comp, want) in [(Compensation::Turquin, e / e_t), (Compensation::KullaConty, e + 1.0 - e_t), (Compensation::None, e)] {
+                let a = material_albedo(&mp, theta, comp);
+                assert!((a - want).abs() < 3e-4, "{} r {r} theta {deg}: albedo {a}, formula {want} (E {e}, table E {e_t})", comp.label());
+                if comp != Compensation::None {
+                    worst = worst.max((a - 1.0).abs());
+                    assert!((a - 1.0).abs() < 1e-3, "{} r {r} theta {deg}: albedo {a}", comp.label());
+                }
             }
         }
+    }
+    eprintln!("compensated metal furnace: largest |albedo - 1| = {worst:.2e}");
+}
+
+#[test]
+fn white_furnace_metal_plane_renders_its_albedo() {
+    // The renderer's estimate (10^6 paths; standard error about 1e-3 at r = 0.7) of what the
+    // material conserves.
+    for &(r, deg) in &[(0.3f32, 0.0f32), (0.7, 45.0), (1.0, 70.0)] {
+        let theta = deg.to_radians();
+        let m = Material::pbr("metal", [1.0; 3], 1.0, r);
+        for comp in [Compensation::Turquin, Compensation::KullaConty] {
+            let a = furnace(m.clone(), theta, comp);
+            assert!((a - 1.0).abs() < 4e-3, "{} r {r} theta {deg}: rendered albedo {a}", comp.label());
+        }
+        let a = furnace(m, theta, Compensation::None);
+        let e = shader_core::energy::lut_e(lut(), theta.cos(), r) as f64;
+        assert!((a - e).abs() < 4e-3, "uncompensated r {r} theta {deg}: rendered {a}, table E {e}");
     }
 }
 

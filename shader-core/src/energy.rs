@@ -275,11 +275,17 @@ pub fn cell_taps(x: f32, n: u32, low: bool, high: bool) -> (u32, u32, u32, f32, 
 fn bilinear(lut: &[f32], offset: usize, n_x: u32, n_y: u32, x: f32, y: f32) -> f32 {
     let (i0, i1, i2, u0, u1, u2) = cell_taps(x, n_x, false, true);
     let (j0, j1, j2, w0, w1, w2) = cell_taps(y, n_y, true, true);
-    let row = |j: u32| {
-        let o = offset + (j * n_x) as usize;
-        lut[o + i0 as usize] * u0 + lut[o + i1 as usize] * u1 + lut[o + i2 as usize] * u2
-    };
-    row(j0) * w0 + row(j1) * w1 + row(j2) * w2
+    let r0 = lut_row(lut, offset + (j0 * n_x) as usize, i0, i1, i2, u0, u1, u2);
+    let r1 = lut_row(lut, offset + (j1 * n_x) as usize, i0, i1, i2, u0, u1, u2);
+    let r2 = lut_row(lut, offset + (j2 * n_x) as usize, i0, i1, i2, u0, u1, u2);
+    r0 * w0 + r1 * w1 + r2 * w2
+}
+
+/// One table row at word `o`, interpolated with the mu taps.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn lut_row(lut: &[f32], o: usize, i0: u32, i1: u32, i2: u32, u0: f32, u1: f32, u2: f32) -> f32 {
+    lut[o + i0 as usize] * u0 + lut[o + i1 as usize] * u1 + lut[o + i2 as usize] * u2
 }
 
 /// (n_mu, n_r, n_avg) of a LUT buffer.

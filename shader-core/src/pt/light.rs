@@ -122,10 +122,9 @@ pub fn triangle_pdf(sc: &[u32], l: u32, p: Vec3, q: Vec3, nq: Vec3) -> f32 {
 /// Sample light `l` from point `p` with uniform numbers (u0, u1).
 #[inline]
 pub fn sample(sc: &[u32], l: u32, p: Vec3, u0: f32, u1: f32) -> LightSample {
-    let lw = |w: usize| scene::light(sc, l, w);
-    let kind = word(sc, lw(L_TYPE));
+    let kind = word(sc, scene::light(sc, l, L_TYPE));
     if kind == LIGHT_TRIANGLE {
-        let t = word(sc, lw(L_TRIANGLE));
+        let t = word(sc, scene::light(sc, l, L_TRIANGLE));
         // Uniform barycentrics (PBRT-v4 SampleUniformTriangle's square-root form).
         let su0 = ieee::sqrt(u0);
         let (b1, b2) = (1.0 - su0, u1 * su0);
@@ -146,23 +145,23 @@ pub fn sample(sc: &[u32], l: u32, p: Vec3, u0: f32, u1: f32) -> LightSample {
         }
         return LightSample { li, wi, dist, pdf, delta: 0 };
     }
-    let intensity = vec3(sc, lw(L_INTENSITY));
+    let intensity = vec3(sc, scene::light(sc, l, L_INTENSITY));
     if kind == LIGHT_DIRECTIONAL {
-        let wi = -vec3(sc, lw(L_DIRECTION));
+        let wi = -vec3(sc, scene::light(sc, l, L_DIRECTION));
         return LightSample { li: intensity, wi, dist: f32::INFINITY, pdf: 1.0, delta: 1 };
     }
     if kind == LIGHT_POINT || kind == LIGHT_SPOT {
-        let v = vec3(sc, lw(L_POSITION)) - p;
+        let v = vec3(sc, scene::light(sc, l, L_POSITION)) - p;
         let d2 = v.dot(v);
         if !(d2 > 0.0) {
             return LightSample::NONE;
         }
         let dist = ieee::sqrt(d2);
         let wi = v / dist;
-        let mut scale = ieee::div(range_window(d2, float(sc, lw(L_RANGE))), d2);
+        let mut scale = ieee::div(range_window(d2, float(sc, scene::light(sc, l, L_RANGE))), d2);
         if kind == LIGHT_SPOT {
-            let cos_theta = vec3(sc, lw(L_DIRECTION)).dot(-wi);
-            scale = scale * spot_falloff(cos_theta, float(sc, lw(L_COS_INNER)), float(sc, lw(L_COS_OUTER)));
+            let cos_theta = vec3(sc, scene::light(sc, l, L_DIRECTION)).dot(-wi);
+            scale = scale * spot_falloff(cos_theta, float(sc, scene::light(sc, l, L_COS_INNER)), float(sc, scene::light(sc, l, L_COS_OUTER)));
         }
         return LightSample { li: intensity * scale, wi, dist, pdf: 1.0, delta: 1 };
     }

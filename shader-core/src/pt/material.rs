@@ -50,6 +50,12 @@ pub struct Material {
     pub c_ms: Vec3,
 }
 
+/// pi f_ms / (1 - E(mu_i)) of Kulla-Conty for Schlick F0 `f0` (F90 = 1).
+#[inline]
+fn kulla_conty_factor(e_o: f32, e_avg: f32, f0: f32) -> f32 {
+    energy::kulla_conty_f_ms(e_o, 0.0, e_avg, energy::schlick_f_avg(f0, 1.0)) * PI
+}
+
 #[inline]
 fn clamp01(x: f32) -> f32 {
     crate::math::clamp(x, 0.0, 1.0)
@@ -83,9 +89,9 @@ impl Material {
             mat.s_d = 1.0 - e2_d * mat.k_d;
         } else if mode == COMP_KULLA_CONTY {
             let e_avg = energy::lut_e_avg(lut, r);
-            let kc = |f0: f32| energy::kulla_conty_f_ms(e_o, 0.0, e_avg, energy::schlick_f_avg(f0, 1.0)) * PI;
-            let kc_d = kc(DIELECTRIC_F0);
-            mat.c_ms = Vec3::new(kc(base.x), kc(base.y), kc(base.z)) * m + splat(kc_d * (1.0 - m));
+            let kc_d = kulla_conty_factor(e_o, e_avg, DIELECTRIC_F0);
+            let kc_m = Vec3::new(kulla_conty_factor(e_o, e_avg, base.x), kulla_conty_factor(e_o, e_avg, base.y), kulla_conty_factor(e_o, e_avg, base.z));
+            mat.c_ms = kc_m * m + splat(kc_d * (1.0 - m));
             mat.s_d = 1.0 - (e2_d + energy::kulla_conty_albedo(e_o, e_avg, energy::schlick_f_avg(DIELECTRIC_F0, 1.0)));
         }
         if !(mat.s_d > 0.0) {

@@ -140,7 +140,6 @@ pub fn surface_point(sc: &[u32], t: u32, b1: f32, b2: f32, d: Vec3) -> SurfacePo
     }
     let (u, v) = uv(sc, t, b1, b2);
     let m = word(sc, scene::shading(sc, t, S_MATERIAL));
-    let mw = |w: usize| scene::material(sc, m, w);
     let one = Rgba::new(1.0, 1.0, 1.0, 1.0);
 
     // Tangent frame: the mesh's tangent (Gram-Schmidt against ns) or an arbitrary one.
@@ -153,10 +152,10 @@ pub fn surface_point(sc: &[u32], t: u32, b1: f32, b2: f32, d: Vec3) -> SurfacePo
             ts = tv;
             let tangent_sign = if float(sc, o + 3) < 0.0 { -1.0 } else { 1.0 };
             // Normal map (glTF 3.9.3): n = normalize((2 c - 1) * (scale, scale, 1)) in (T, B, N).
-            let nt = word(sc, mw(M_NORMAL_TEX));
+            let nt = word(sc, scene::material(sc, m, M_NORMAL_TEX));
             if nt != NONE && flags & SF_UVS != 0 {
                 let c = texture::sample(sc, nt, u, v, false);
-                let scale = float(sc, mw(M_NORMAL_SCALE));
+                let scale = float(sc, scene::material(sc, m, M_NORMAL_SCALE));
                 let (x, y, z) = ((2.0 * c.r - 1.0) * scale, (2.0 * c.g - 1.0) * scale, 2.0 * c.b - 1.0);
                 let bt = ns.cross(ts) * tangent_sign;
                 let n = (ts * x + bt * y + ns * z).normalize_or_zero();
@@ -176,16 +175,16 @@ pub fn surface_point(sc: &[u32], t: u32, b1: f32, b2: f32, d: Vec3) -> SurfacePo
     let mr_tex = material_texture(sc, m, M_MR_TEX, u, v, false, one);
     let em_tex = material_texture(sc, m, M_EMISSIVE_TEX, u, v, true, one);
     let tr_tex = material_texture(sc, m, M_TRANSMISSION_TEX, u, v, false, one);
-    let base = Vec3::new(base_tex.r, base_tex.g, base_tex.b).mul_elem(vec3(sc, mw(M_BASE)));
-    let emission = Vec3::new(em_tex.r, em_tex.g, em_tex.b).mul_elem(vec3(sc, mw(M_EMISSIVE)));
+    let base = Vec3::new(base_tex.r, base_tex.g, base_tex.b).mul_elem(vec3(sc, scene::material(sc, m, M_BASE)));
+    let emission = Vec3::new(em_tex.r, em_tex.g, em_tex.b).mul_elem(vec3(sc, scene::material(sc, m, M_EMISSIVE)));
     let material = MaterialPoint {
         base,
-        metallic: float(sc, mw(M_METALLIC)) * mr_tex.b,
-        roughness: float(sc, mw(M_ROUGHNESS)) * mr_tex.g,
+        metallic: float(sc, scene::material(sc, m, M_METALLIC)) * mr_tex.b,
+        roughness: float(sc, scene::material(sc, m, M_ROUGHNESS)) * mr_tex.g,
         emission,
-        transmission: float(sc, mw(M_TRANSMISSION)) * tr_tex.r,
-        ior: float(sc, mw(M_IOR)),
-        double_sided: if word(sc, mw(M_DOUBLE_SIDED)) != 0 { 1 } else { 0 },
+        transmission: float(sc, scene::material(sc, m, M_TRANSMISSION)) * tr_tex.r,
+        ior: float(sc, scene::material(sc, m, M_IOR)),
+        double_sided: if word(sc, scene::material(sc, m, M_DOUBLE_SIDED)) != 0 { 1 } else { 0 },
     };
     SurfacePoint {
         p,

@@ -95,6 +95,18 @@ fn reduce(u: f32, wrap: u32) -> f32 {
     }
 }
 
+/// Channel `k` (0 = R) of packed RGBA8 texel `v` as a float: through the sRGB table at `table`
+/// when `srgb`, else k / 255.
+#[inline]
+fn channel(sc: &[u32], table: usize, v: u32, k: u32, srgb: bool) -> f32 {
+    let byte = (v >> (8 * k)) & 255;
+    if srgb {
+        float(sc, table + byte as usize)
+    } else {
+        (byte as f32) * (1.0 / 255.0)
+    }
+}
+
 /// Texel (x, y) of texture `t`, decoded (`srgb`: colour channels through the sRGB table).
 #[inline]
 fn texel(sc: &[u32], t: u32, x: u32, y: u32, srgb: bool) -> Rgba {
@@ -102,15 +114,7 @@ fn texel(sc: &[u32], t: u32, x: u32, y: u32, srgb: bool) -> Rgba {
     let base = scene::header(sc, H_TEXELS_OFF) as usize + word(sc, scene::texture(sc, t, T_TEXELS)) as usize;
     let v = word(sc, base + (y as usize) * (w as usize) + x as usize);
     let table = scene::header(sc, H_SRGB_OFF) as usize;
-    let byte = |k: u32| (v >> (8 * k)) & 255;
-    let lin = |k: u32| {
-        if srgb {
-            float(sc, table + byte(k) as usize)
-        } else {
-            (byte(k) as f32) * (1.0 / 255.0)
-        }
-    };
-    Rgba::new(lin(0), lin(1), lin(2), (byte(3) as f32) * (1.0 / 255.0))
+    Rgba::new(channel(sc, table, v, 0, srgb), channel(sc, table, v, 1, srgb), channel(sc, table, v, 2, srgb), channel(sc, table, v, 3, false))
 }
 
 /// Texture `t` at glTF coordinates (u, v): bilinear (or nearest, per the texture's sampler) with
