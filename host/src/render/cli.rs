@@ -106,7 +106,7 @@ pub struct RenderCommand {
     #[arg(long, default_value_t = 0.0)]
     pub clamp: f32,
     /// Tessellation of the built-in scene's spheres (triangles grow as its square).
-    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(3..=1024))]
+    #[arg(long, default_value_t = super::scene::DEFAULT_DETAIL, value_parser = clap::value_parser!(u32).range(3..=1024))]
     pub detail: u32,
     /// No progress bar.
     #[arg(long)]

@@ -5,6 +5,7 @@
 //! per-pixel sums of its samples and [`Accumulator`] adds them in launch order, so the image
 //! depends only on the scene, the settings and the seed (and is bit-identical between backends).
 
+pub mod bench;
 pub mod cli;
 pub mod environment;
 pub mod scene;
