@@ -8,7 +8,7 @@
 //!
 //! Radiance scaling (PBRT-v4 section 9.5.2): radiance is not symmetric across a refractive
 //! boundary. In [`MODE_RADIANCE`] the transmitted value is divided by eta'^2 (the solid-angle
-//! compression of radiance entering a denser medium); in [`MODE_IMPORTANCE`] it is not. Hence
+//! compression of radiance entering a denser medium); in [`MODE_IMPORTANCE`](super::MODE_IMPORTANCE) it is not. Hence
 //! f_radiance(wo, wi) = f_importance(wi, wo), and reflection is reciprocal in both modes.
 //! Energy: with G2 = 1, integral of (f_R + f_T,importance) |cos_i| dwi = 1 exactly (the microsurface
 //! only splits energy by F, 1 - F).
