@@ -16,7 +16,7 @@
 //!   reflectances and albedos in [0, 1]; indices of refraction as ratios `eta = eta_t / eta_i`.
 //! * **Invalid input.** Each function states what NaN, infinite, negative or degenerate input
 //!   gives (typically NaN out for NaN in, 0 for back-facing directions). No function panics on
-//!   any `f32` input.
+//!   any `f32` argument; functions reading buffers state the length they need.
 //! * **Arithmetic.** Only `+ - *`, comparisons, bit casts and integer operations are used
 //!   directly; division and square root go through [`ieee::div`] / [`ieee::sqrt`], and
 //!   transcendentals through [`math`]. Expressions are written in the order they are evaluated;
