@@ -3,7 +3,7 @@
 //!
 //! `cargo xtask build-shaders` (or `cargo xtask build-shaders --only user-shader`) compiles this
 //! crate with rust-gpu and the project's post-processing (no `spirv-opt`, `NoContraction` on every
-//! float operation, `SignedZeroInfNanPreserve`) into `examples/user-shader/user-shader.spv`, with
+//! float operation, `SignedZeroInfNanPreserve`) into `examples/user-shader/user-shader.spv.gz`, with
 //! its manifest `user-shader.json` (source hash of `shader-core` and this crate).
 //! `tests/tests/user_shader.rs` loads that module with the runner (`GpuContext::add_spirv`),
 //! dispatches [`ggx_specular_kernel`] and checks that every output has the same bits as
