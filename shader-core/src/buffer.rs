@@ -1,5 +1,5 @@
 //! Storage-buffer element access without panicking bounds checks, for kernels with many reads
-//! (a lavapipe control-flow limit, measured in docs/ssr.md "Bit-exactness notes").
+//! (a workaround for a control-flow limit of Mesa lavapipe).
 //!
 //! rust-gpu turns every panicking `buf[i]` into a bounds check whose failure returns from the
 //! entry point. Mesa lowers each such early return by nesting the rest of the function inside
@@ -9,6 +9,16 @@
 //! nesting depth no longer grows with its number of buffer accesses. Out-of-range reads give 0
 //! and out-of-range writes are dropped, on the CPU and the GPU alike; callers index in range by
 //! construction (the CPU-vs-GPU comparisons would show a difference otherwise).
+//!
+//! ```
+//! use shader_core::buffer::{load, store};
+//! let mut buf = [1.0f32, 2.0, 3.0];
+//! assert_eq!(load(&buf, 2), 3.0);
+//! assert_eq!(load(&buf, 3), 0.0); // out of range: 0, no panic
+//! store(&mut buf, 0, 9.0);
+//! store(&mut buf, 7, 9.0); // out of range: dropped
+//! assert_eq!(buf, [9.0, 2.0, 3.0]);
+//! ```
 
 /// `buf[i]`, or 0 when `i` is out of range.
 #[inline(always)]

@@ -4,6 +4,19 @@
 //! Conventions: NaN components propagate; division uses Smith's algorithm (no premature overflow
 //! of c^2 + d^2); `abs` is a scaled hypot (no overflow or underflow of the squares); `sqrt` is the
 //! principal branch (re >= 0), as PBRT's `pstd::sqrt`.
+//!
+//! ```
+//! use shader_core::complex::{hypot, Complex};
+//! // The principal square root of -4 is 2i (re >= 0).
+//! assert_eq!(Complex::new(-4.0, 0.0).sqrt(), Complex::new(0.0, 2.0));
+//! // Smith's division: (1 + 2i) / (1 + 2i) = 1 exactly.
+//! let z = Complex::new(1.0, 2.0);
+//! assert_eq!(z / z, Complex::new(1.0, 0.0));
+//! // hypot does not overflow where re^2 + im^2 would.
+//! let s = 2.0f32.powi(100);
+//! assert_eq!(hypot(3.0 * s, 4.0 * s), 5.0 * s);
+//! assert!(Complex::new(3.0 * s, 4.0 * s).norm().is_infinite());
+//! ```
 
 use crate::ieee;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -12,11 +25,14 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Complex {
+    /// Real part.
     pub re: f32,
+    /// Imaginary part.
     pub im: f32,
 }
 
 impl Complex {
+    /// The complex number `re + i im`, stored as given.
     #[inline]
     pub const fn new(re: f32, im: f32) -> Self {
         Complex { re, im }

@@ -1,4 +1,5 @@
-//! Energy compensation for single-scattering GGX (docs/energy.md).
+//! Energy compensation for single-scattering GGX: the directional-albedo tables, their lookups,
+//! and the Kulla-Conty and Turquin compensation terms built on them.
 //!
 //! Tables (precomputed by the `energy_*` kernels, the same code on both backends):
 //! * E(mu, r) = int f_ss(wo, wi) cos(theta_i) dwi, the directional albedo of GGX with F = 1 and
@@ -17,6 +18,32 @@
 //! Conventions: local frame (normal = +z), `wo` unit and above the surface. Invalid input (NaN
 //! mu or roughness, alpha < 0) gives NaN; mu outside (0, 1] and r outside [0, 1] are clamped by the
 //! lookups to the edge cells.
+//!
+//! LUT buffer layout (`f32` words): a header of [`LUT_HEADER`] words `[n_mu, n_r, n_avg, 0]`
+//! stored as `u32` bit patterns, then the E table (`n_r` rows of `n_mu` values), then the E'
+//! table (same shape), then the `n_avg` values of E_avg. The lookups index it without checks
+//! beyond the slice's own: a buffer shorter than its header says panics on the CPU (on the GPU
+//! the failed bounds check returns from the entry point).
+//!
+//! ```
+//! use shader_core::energy::{cell_center, lut_e, lut_e_avg, lut_e_prime, schlick_f_avg, turquin_scale, LUT_HEADER};
+//! // A 2 x 2 table (n_mu = n_r = 2) with one E_avg value.
+//! let mut lut = vec![f32::from_bits(2), f32::from_bits(2), f32::from_bits(1), 0.0];
+//! assert_eq!(lut.len(), LUT_HEADER);
+//! lut.extend([0.9, 0.95, 0.7, 0.8]); // E: row r = 0.25, then row r = 0.75
+//! lut.extend([0.1, 0.05, 0.2, 0.1]); // E'
+//! lut.push(0.85); // E_avg
+//! // At a cell center the lookup returns the stored value; outside, it clamps to the edge cells.
+//! assert_eq!(cell_center(1, 2), 0.75);
+//! assert_eq!(lut_e(&lut, 0.25, 0.75), 0.7);
+//! assert_eq!(lut_e(&lut, 1.0, 0.0), 0.95);
+//! assert_eq!(lut_e_prime(&lut, 0.75, 0.25), 0.05);
+//! assert_eq!(lut_e_avg(&lut, 0.3), 0.85);
+//! assert!(lut_e(&lut, f32::NAN, 0.5).is_nan());
+//! // No loss (E = 1): Turquin's scale is exactly 1. F_avg of (0, 1) is 1/21.
+//! assert_eq!(turquin_scale(1.0, 0.5), 1.0);
+//! assert_eq!(schlick_f_avg(0.0, 1.0), 1.0 / 21.0);
+//! ```
 
 use crate::ieee;
 use crate::fresnel;
@@ -47,7 +74,7 @@ pub const DIELECTRIC_F0: f32 = 0.04;
 
 /// Perceptual roughness below which the specular multiple-scattering term is skipped: below it
 /// the loss 1 - E(mu) of GGX is < 1e-3 for every mu >= 1/64 (the smallest cell center of the
-/// 32-cell table; f64 reference: 8.6e-4 at r = 0.025, 1.8e-3 at r = 0.03; docs/energy.md). At more
+/// 32-cell table; f64 reference: 8.6e-4 at r = 0.025, 1.8e-3 at r = 0.03). At more
 /// grazing mu the loss of smooth GGX is larger (up to ~10 %), so the threshold cannot be higher.
 pub const COMPENSATION_MIN_ROUGHNESS: f32 = 0.025;
 
@@ -170,7 +197,9 @@ pub fn sample_3d(seq: u32, seed: u32, cell: u32, index: u32) -> (f32, f32, f32) 
 /// Kahan compensated sum in f32 (Kahan 1965), exact-operation only so both backends agree.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct KahanSum {
+    /// The running sum (the estimate).
     pub sum: f32,
+    /// The running compensation: minus the low-order part lost by the last additions.
     pub c: f32,
 }
 
@@ -288,7 +317,8 @@ fn lut_row(lut: &[f32], o: usize, i0: u32, i1: u32, i2: u32, u0: f32, u1: f32, u
     lut[o + i0 as usize] * u0 + lut[o + i1 as usize] * u1 + lut[o + i2 as usize] * u2
 }
 
-/// (n_mu, n_r, n_avg) of a LUT buffer.
+/// (n_mu, n_r, n_avg) of a LUT buffer: its first three words read as `u32` bits. Panics (CPU) if
+/// the buffer is shorter than 3 words.
 #[inline]
 pub fn lut_dims(lut: &[f32]) -> (u32, u32, u32) {
     (lut[0].to_bits(), lut[1].to_bits(), lut[2].to_bits())
@@ -375,21 +405,29 @@ pub fn schlick_albedo(e: f32, e_prime: f32, f0: f32, f90: f32) -> f32 {
 /// roughness below which the specular multiple-scattering term is skipped.
 #[derive(Clone, Copy, Debug)]
 pub struct FurnaceMaterial {
+    /// Scalar base colour in [0, 1] (F0 of the metal, albedo of the diffuse lobe).
     pub base: f32,
+    /// Metallic factor in [0, 1]: 0 dielectric, 1 metal, blended linearly in between.
     pub metallic: f32,
+    /// Perceptual roughness in [0, 1] (alpha = roughness^2).
     pub roughness: f32,
+    /// Compensation mode: [`COMP_NONE`], [`COMP_KULLA_CONTY`] or [`COMP_TURQUIN`].
     pub mode: u32,
+    /// Perceptual roughness below which the specular multiple-scattering term is skipped (usually
+    /// [`COMPENSATION_MIN_ROUGHNESS`]).
     pub min_roughness: f32,
 }
 
 /// The per-wo constants of a compensated material (LUT lookups done once per shading point).
 #[derive(Clone, Copy, Debug)]
 pub struct CompensationTerms {
-    /// Turquin scale of the metal and dielectric specular lobes (1 when off).
+    /// Turquin scale of the metal specular lobe (1 when off).
     pub turquin_m: f32,
+    /// Turquin scale of the dielectric specular lobe (1 when off).
     pub turquin_d: f32,
-    /// Factor of (1 - E(wi)) in pi f_ms, metal and dielectric (0 when off).
+    /// Factor of (1 - E(wi)) in pi f_ms of the metal lobe (0 when off).
     pub kc_m: f32,
+    /// Factor of (1 - E(wi)) in pi f_ms of the dielectric lobe (0 when off).
     pub kc_d: f32,
     /// Scale of the dielectric diffuse lobe, 1 - (specular albedo); < 0 means glTF's 1 - F(v.h).
     pub diffuse: f32,

@@ -6,8 +6,28 @@
 //! surface (the side the normal points away from) over the medium above. Directions point away from
 //! the surface. Every function here is built from `+ - * /`, `sqrt` and comparisons only.
 //!
-//! Invalid input (documented per function, asserted in `tests/tests/bxdf_stress.rs`): NaN inputs
-//! propagate to NaN; a non-positive or non-finite relative IOR gives NaN.
+//! Invalid input (documented per function, asserted by the project's BxDF stress tests): NaN
+//! inputs propagate to NaN; a non-positive or non-finite relative IOR gives NaN.
+//!
+//! ```
+//! use shader_core::fresnel::{dielectric, f0_from_eta, reflect, refract, schlick};
+//! use shader_core::Vec3;
+//! // Reflecting the normal about itself gives the normal; both vectors point away from the surface.
+//! assert_eq!(reflect(Vec3::Z, Vec3::Z), Vec3::Z);
+//! assert_eq!(reflect(Vec3::new(0.6, 0.0, 0.8), Vec3::Z), Vec3::new(-0.6, 0.0, 0.8));
+//! // Schlick at normal incidence is F0 exactly; eta = 1.5 gives F0 = 0.04.
+//! assert_eq!(schlick(1.0, 0.04, 1.0), 0.04);
+//! assert!((f0_from_eta(1.5) - 0.04).abs() < 1e-8);
+//! // The exact dielectric Fresnel agrees with F0 at normal incidence and is 1 at grazing.
+//! assert!((dielectric(1.0, 1.5) - 0.04).abs() < 1e-7);
+//! assert_eq!(dielectric(0.0, 1.5), 1.0);
+//! // Invalid IOR: NaN.
+//! assert!(dielectric(0.5, -1.0).is_nan());
+//! // Normal incidence refracts straight through (the transmitted direction points down).
+//! let t = refract(Vec3::Z, Vec3::Z, 1.5);
+//! assert_eq!(t.valid, 1);
+//! assert_eq!(t.wt, Vec3::new(0.0, 0.0, -1.0));
+//! ```
 
 use crate::ieee;
 use crate::complex::Complex;
@@ -220,7 +240,9 @@ pub fn gulbrandsen_nk(r: f32, g: f32) -> Complex {
 /// Reflectivity and edge tint of [`gulbrandsen_r_g`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ReflectivityEdgeTint {
+    /// Reflectivity r: the normal-incidence reflectance, in [0, 1) for a valid (n, k).
     pub r: f32,
+    /// Edge tint g: in [0, 1] inside the model's image (not clamped).
     pub g: f32,
 }
 
@@ -250,9 +272,13 @@ pub fn gulbrandsen_r_g(n: f32, k: f32) -> ReflectivityEdgeTint {
 /// internal reflection or invalid input (then `wt` is zero).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Refraction {
+    /// The transmitted direction (a unit vector pointing away from the surface, into the other side),
+    /// or the zero vector when `valid` is 0.
     pub wt: Vec3,
     /// The relative IOR actually used: eta, or 1/eta when `wi` was on the side `n` points away from.
     pub etap: f32,
+    /// 1 when a transmitted direction exists, 0 otherwise (a `u32`, not a `bool`, so the record can
+    /// cross a GPU buffer).
     pub valid: u32,
 }
 

@@ -1,7 +1,7 @@
 //! Correctly rounded `f32` division and square root (IEEE 754-2019 §5.4.1, round to nearest even) built only from the operations the Vulkan spec ("Precision and Operation of SPIR-V Instructions") requires to be correctly rounded.
 //!
 //! Vulkan lets `OpFDiv` be off by 2.5 ULP and GLSL.std.450 `Sqrt`/`InverseSqrt` be approximate, so
-//! every division and square root in `shader-core` and `shader-kernels` goes through [`div`] and
+//! every division and square root in this crate (and in kernels built on it) goes through [`div`] and
 //! [`sqrt`] here. In the SPIR-V build they run the software routines [`div_soft`] and
 //! [`sqrt_soft`]; on the CPU they are the native `divss`/`sqrtss`, which give the same bits (the
 //! proof below), only faster ([`EXACT`], [`SOFT_ON_CPU`]). The software routines use only `f32` add/sub/mul (exact under round-to-nearest, no contraction:
@@ -21,21 +21,41 @@
 //! an invalid operation (0/0, inf/inf, sqrt of a negative number) gives the default NaN
 //! `0xffc0_0000`, and signed zeros and infinities follow IEEE 754.
 //!
-//! Proof: `shader-core/tests/ieee_exhaustive.rs` compares [`sqrt_soft`] with the native square
-//! root on all 2^32 bit patterns and [`div_soft`] with the native `/` on structured and random pairs
-//! (docs/exactness.md).
+//! Proof: this crate's `ieee_exhaustive` test compares [`sqrt_soft`] with the native square
+//! root on all 2^32 bit patterns and [`div_soft`] with the native `/` on structured and random
+//! pairs (10^10 of them).
+//!
+//! ```
+//! use shader_core::ieee::{div, div_soft, rsqrt, sqrt, sqrt_soft};
+//! let pairs = [(1.0f32, 3.0f32), (2.0, 7.0), (-0.0, 5.0), (1.0e-40, 3.0), (3.0e38, 0.1), (1.0, 0.0)];
+//! for (a, b) in pairs {
+//!     let native = std::hint::black_box(a) / std::hint::black_box(b);
+//!     // Same bits as the native division, on either path.
+//!     assert_eq!(div(a, b).to_bits(), native.to_bits());
+//!     assert_eq!(div_soft(a, b).to_bits(), native.to_bits());
+//! }
+//! for x in [2.0f32, 0.5, 1.0e-41, 3.0e38, -0.0, f32::INFINITY] {
+//!     assert_eq!(sqrt_soft(x).to_bits(), std::hint::black_box(x).sqrt().to_bits());
+//!     assert_eq!(sqrt(x).to_bits(), sqrt_soft(x).to_bits());
+//! }
+//! // Invalid operations give x86's default NaN; sqrt(-0) = -0.
+//! assert_eq!(div_soft(0.0, 0.0).to_bits(), 0xffc0_0000);
+//! assert_eq!(sqrt_soft(-1.0).to_bits(), 0xffc0_0000);
+//! assert_eq!(sqrt_soft(-0.0).to_bits(), (-0.0f32).to_bits());
+//! // rsqrt is two roundings: 1 / sqrt(x), not a fused reciprocal square root.
+//! assert_eq!(rsqrt(2.0), div(1.0, sqrt(2.0)));
+//! ```
 
 /// The one switch: `true` (default): in the SPIR-V build [`div`] and [`sqrt`] are the software
 /// routines [`div_soft`] and [`sqrt_soft`] (bit-exact on any conformant Vulkan device). `false`
-/// (feature `native-div-sqrt`, the second "native" module `cargo xtask build-shaders` writes):
-/// they are `OpFDiv` and GLSL.std.450 `Sqrt`, correctly rounded on lavapipe but only to 2.5 / ~2
-/// ULP on other drivers; the runner loads that module when asked (`HOST_DIV_SQRT=native`) and
-/// says so (docs/exactness.md).
+/// (feature `native-div-sqrt`, for a second, faster SPIR-V build of the same kernels): they are
+/// `OpFDiv` and GLSL.std.450 `Sqrt`, correctly rounded on Mesa lavapipe but only to 2.5 / ~2 ULP
+/// on other drivers, so bit-exactness with the CPU is then no longer promised.
 pub const EXACT: bool = !cfg!(feature = "native-div-sqrt");
 
 /// `true`: the CPU build runs the software routines too. Off by default: x86-64 `divss` and
-/// `sqrtss` give the same bits (proven in `shader-core/tests/ieee_exhaustive.rs`) 6-7 times
-/// faster in the kernels (docs/exactness.md); turning it on changes no result.
+/// `sqrtss` give the same bits (proven by this crate's `ieee_exhaustive` test) 6-7 times
+/// faster in the kernels; turning it on changes no result.
 pub const SOFT_ON_CPU: bool = false;
 
 /// Whether [`div`] and [`sqrt`] take the software path in this build.

@@ -3,7 +3,48 @@
 //! Every function is written once and used by both backends; arithmetic is restricted to the
 //! operations Vulkan requires correctly rounded (`+ - *`, conversions) plus the software division
 //! and square root of [`ieee`], with a fixed evaluation order, so CPU and GPU results agree to the
-//! bit on any conformant device (see README, "Bit-exactness", and docs/exactness.md).
+//! bit on any conformant device.
+//!
+//! # Conventions (every module)
+//!
+//! * **Frame.** Shading functions work in the local shading frame: the surface normal is +z
+//!   ([`Vec3::Z`]), so `cos(theta) = w.z`; `x`/`y` are the tangent and bitangent (the axes of
+//!   anisotropic roughness `alpha_x`, `alpha_y`). Directions such as `wo`, `wi` (PBRT naming) point
+//!   *away* from the surface. World-space code (the [`ssr`] module) says so per function.
+//! * **Units.** Angles in radians; roughness as the microfacet `alpha` (perceptual roughness
+//!   squared where a function takes "roughness"); densities per steradian (solid angle);
+//!   reflectances and albedos in [0, 1]; indices of refraction as ratios `eta = eta_t / eta_i`.
+//! * **Invalid input.** Each function states what NaN, infinite, negative or degenerate input
+//!   gives (typically NaN out for NaN in, 0 for back-facing directions). No function panics on
+//!   any `f32` argument; functions reading buffers state the length they need.
+//! * **Arithmetic.** Only `+ - *`, comparisons, bit casts and integer operations are used
+//!   directly; division and square root go through [`ieee::div`] / [`ieee::sqrt`], and
+//!   transcendentals through [`math`]. Expressions are written in the order they are evaluated;
+//!   nothing relies on fused multiply-add or reassociation.
+//!
+//! # Using it from a rust-gpu shader crate
+//!
+//! Depend on `shader-core` (and `spirv-std` 0.11) from a `#![no_std]` shader crate, call these
+//! functions from a `#[spirv(compute(...))]` entry point, and call the same functions natively
+//! on the CPU. The results agree bit for bit only if the SPIR-V is post-processed the way this
+//! project's own kernels are: built without `spirv-opt` (its folding rules reassociate float
+//! arithmetic), every float arithmetic instruction decorated `NoContraction` (so the driver
+//! neither fuses nor reassociates), and the `SignedZeroInfNanPreserve` execution mode on every
+//! entry point (so the driver keeps `-0`, infinities and NaN).
+//!
+//! ```
+//! use shader_core::{fresnel, ieee, masking, ndf, Vec3};
+//! // A GGX specular lobe, evaluated the same way on the CPU as in a shader.
+//! let (wo, wi) = (Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.6, 0.0, 0.8));
+//! let alpha = 0.3;
+//! let wm = (wo + wi).normalize();
+//! assert_eq!(wm, Vec3::Z); // mirror configuration: the half vector is the normal
+//! let d = ndf::ggx_d(wm, alpha, alpha);
+//! let g = masking::ggx_g2_height_correlated(wo, wi, alpha, alpha);
+//! let f = fresnel::schlick(wo.dot(wm), 0.04, 1.0);
+//! let lobe = ieee::div(d * g * f, 4.0 * wo.z * wi.z);
+//! assert!(lobe > 0.0 && lobe.is_finite());
+//! ```
 #![no_std]
 
 pub mod buffer;

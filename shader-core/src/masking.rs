@@ -1,7 +1,7 @@
 //! Smith masking-shadowing: Lambda, G1 and the G2 forms, in the local frame (normal = +z), and the
 //! engines' visibility terms V = G2 / (4 |n.l| |n.v|).
 //!
-//! Conventions (see `docs/microfacet.md`; asserted in `tests/tests/microfacet_stress.rs`):
+//! Conventions (asserted by the project's microfacet stress tests):
 //! * Directions need not be normalized: every vector form here is scale invariant and evaluated
 //!   after an exact power-of-two rescaling ([`Vec3::pow2_rescaled`]), so any finite non-zero
 //!   vector works.
@@ -20,6 +20,30 @@
 //!   the engines' rearranged arithmetic cancels there). V is +Inf only where the exact value is
 //!   infinite (both cosines 0, or alpha = 0 with a cosine 0, for the forms whose limit is
 //!   1 / (4 n.l n.v); v.h = 0 for Kelemen).
+//!
+//! ```
+//! use shader_core::masking::{ggx_g1, ggx_g2_height_correlated, ggx_lambda, v_smith_ggx_correlated};
+//! use shader_core::Vec3;
+//! // Along the normal nothing is masked: Lambda = 0, G1 = 1.
+//! assert_eq!(ggx_lambda(Vec3::Z, 0.5, 0.5), 0.0);
+//! assert_eq!(ggx_g1(Vec3::Z, 0.5, 0.5), 1.0);
+//! // Exactly grazing: Lambda = +inf, G1 = 0, even for a smooth surface.
+//! let grazing = Vec3::new(1.0, 0.0, 0.0);
+//! assert_eq!(ggx_lambda(grazing, 0.5, 0.5), f32::INFINITY);
+//! assert_eq!(ggx_g1(grazing, 0.0, 0.0), 0.0);
+//! // Scale invariance: the direction need not be normalized.
+//! let w = Vec3::new(0.3, 0.4, 0.5);
+//! assert_eq!(ggx_g1(w, 0.2, 0.7), ggx_g1(w * 1024.0, 0.2, 0.7));
+//! // Height-correlated G2 lies in [0, min(G1(wo), G1(wi))].
+//! let (wo, wi) = (Vec3::new(0.8, 0.0, 0.6), Vec3::new(-0.6, 0.0, 0.8));
+//! let g2 = ggx_g2_height_correlated(wo, wi, 0.5, 0.5);
+//! assert!(g2 > 0.0 && g2 <= ggx_g1(wo, 0.5, 0.5).min(ggx_g1(wi, 0.5, 0.5)));
+//! // Invalid roughness gives NaN.
+//! assert!(ggx_g1(w, -0.1, 0.5).is_nan());
+//! // The visibility term is G2 / (4 n.l n.v).
+//! let v = v_smith_ggx_correlated(0.6, 0.8, 0.5);
+//! assert!((v - g2 / (4.0 * 0.6 * 0.8)).abs() < 1e-6 * v);
+//! ```
 
 use crate::ieee;
 use crate::math;

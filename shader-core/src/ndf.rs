@@ -1,8 +1,7 @@
 //! Microfacet normal distribution functions D(wm) in the local frame (normal = +z), the roughness
 //! parameterizations that feed them, and the reduced-precision GGX forms used on mobile GPUs.
 //!
-//! Conventions shared by every NDF here (see `docs/microfacet.md`, asserted in
-//! `tests/tests/microfacet_stress.rs`):
+//! Conventions shared by every NDF here (asserted by the project's microfacet stress tests):
 //! * `wm` need not be normalized: each D taking a vector is evaluated in a scale-invariant form,
 //!   D(s wm) = D(wm), after an exact power-of-two rescaling ([`Vec3::pow2_rescaled`]), so any finite
 //!   non-zero vector works, denormal or huge components included. (The `*_mobile*`/`*_ue4` forms
@@ -15,6 +14,25 @@
 //!   at least 1e4.
 //! * A NaN or infinite component in `wm` returns NaN.
 //! * D is +Inf only where the true density exceeds `f32::MAX` (alpha below ~1e-19 at the peak).
+//!
+//! ```
+//! use core::f32::consts::PI;
+//! use shader_core::ndf::{beckmann_d, ggx_d};
+//! use shader_core::Vec3;
+//! // GGX D at the peak (wm = n) is 1 / (pi alpha^2), to the bit.
+//! for alpha in [0.05f32, 0.3, 1.0] {
+//!     assert_eq!(ggx_d(Vec3::Z, alpha, alpha), 1.0 / (PI * alpha * alpha));
+//! }
+//! // One-sided: no density below the surface; alpha = 0 (a Dirac) has no finite density.
+//! assert_eq!(ggx_d(Vec3::new(0.0, 0.6, -0.8), 0.3, 0.3), 0.0);
+//! assert_eq!(ggx_d(Vec3::Z, 0.0, 0.0), 0.0);
+//! // Scale invariant: wm need not be normalized.
+//! let wm = Vec3::new(0.2, -0.1, 0.9);
+//! assert_eq!(ggx_d(wm, 0.4, 0.2), ggx_d(wm * 8.0, 0.4, 0.2));
+//! // Invalid roughness or a NaN component: NaN.
+//! assert!(ggx_d(wm, -0.1, 0.2).is_nan());
+//! assert!(beckmann_d(Vec3::new(f32::NAN, 0.0, 1.0), 0.3, 0.3).is_nan());
+//! ```
 
 use crate::ieee;
 use crate::math;

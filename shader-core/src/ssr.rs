@@ -7,6 +7,16 @@
 //! * [`resolve`]: HDRP fades, colour-pyramid sampling, SSR_APPROX and neighbourhood resolves.
 //! * [`specular`]: the reflection times the preintegrated FG term from the energy tables.
 //! * [`stochastic`]: Frostbite-style stochastic SSR (tiles, ray list, VNDF rays, reuse, temporal).
+//!
+//! Every pass is a function of one pixel (or tile) reading flat `f32` buffers (G-buffer, depth and
+//! colour pyramids, ray records) laid out as each module's `*_STRIDE` constants describe, with the
+//! parameters of [`params::SsrParams`]; the conventions (view space, reverse-Z projection, screen
+//! space) are listed in [`params`].
+//!
+//! ```
+//! use shader_core::ssr::{params::idx, trace::GBUF_STRIDE, resolve::OUT_STRIDE};
+//! assert_eq!((idx::LEN, GBUF_STRIDE, OUT_STRIDE), (112, 8, 4));
+//! ```
 
 pub mod mat4;
 pub mod params;

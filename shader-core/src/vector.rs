@@ -1,5 +1,24 @@
 //! Three-component vectors with a fixed evaluation order (no fused or reassociated arithmetic), so
 //! every operation rounds identically on the CPU and in SPIR-V.
+//!
+//! Conventions: components are `f32`; directions in the local shading frame have the normal along
+//! +z (`Vec3::Z`), tangent +x, bitangent +y. Nothing is clamped or normalized implicitly; NaN
+//! components propagate through every operation (comparison-based functions document their own
+//! rule). Sums are evaluated left to right, never fused.
+//!
+//! ```
+//! use shader_core::Vec3;
+//! let a = Vec3::new(1.0, 2.0, 3.0);
+//! let b = Vec3::new(4.0, -5.0, 6.0);
+//! // The dot product is summed left to right: (x*x' + y*y') + z*z', bit for bit.
+//! assert_eq!(a.dot(b).to_bits(), ((1.0f32 * 4.0 + 2.0 * -5.0) + 3.0 * 6.0).to_bits());
+//! // Right-handed cross product: x cross y = z.
+//! assert_eq!(Vec3::new(1.0, 0.0, 0.0).cross(Vec3::new(0.0, 1.0, 0.0)), Vec3::Z);
+//! // Normalizing the zero vector gives NaN; normalize_or_zero gives zero.
+//! assert!(Vec3::ZERO.normalize().x.is_nan());
+//! assert_eq!(Vec3::ZERO.normalize_or_zero(), Vec3::ZERO);
+//! assert_eq!(Vec3::new(0.0, 3.0, 4.0).length(), 5.0);
+//! ```
 
 use crate::ieee;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -8,15 +27,21 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Vec3 {
+    /// x component (tangent direction in the local shading frame).
     pub x: f32,
+    /// y component (bitangent direction in the local shading frame).
     pub y: f32,
+    /// z component (the normal direction in the local shading frame: `z = cos(theta)` for a unit vector).
     pub z: f32,
 }
 
 impl Vec3 {
+    /// The zero vector (all components +0).
     pub const ZERO: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+    /// The unit +z axis: the surface normal of the local shading frame.
     pub const Z: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 
+    /// The vector `(x, y, z)`, stored as given (no normalization).
     #[inline]
     pub const fn new(x: f32, y: f32, z: f32) -> Self {
         Vec3 { x, y, z }
@@ -28,6 +53,8 @@ impl Vec3 {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
 
+    /// Right-handed cross product `self x o`: `(y z' - z y', z x' - x z', x y' - y x')`, each
+    /// component two rounded products and one rounded difference (no fma).
     #[inline]
     pub fn cross(self, o: Vec3) -> Vec3 {
         Vec3::new(
@@ -37,6 +64,8 @@ impl Vec3 {
         )
     }
 
+    /// `dot(v, v)` = x^2 + y^2 + z^2, summed left to right; may overflow to +inf above ~1.8e19 or
+    /// underflow for tiny components (see [`Vec3::pow2_rescaled`]).
     #[inline]
     pub fn length_squared(self) -> f32 {
         self.dot(self)

@@ -11,9 +11,45 @@
 //! Dirac delta and never sampled here). The result is a unit normal with wm.z >= 1e-6 scale.
 //! Invalid input: w = 0, w.z = 0 with alpha = 0, alpha <= 0 or NaN -> NaN components.
 //!
-//! Below them: the reflection samplers compared in `docs/vndf.md` (`sample_ndf`, `sample_vndf_heitz`,
-//! `sample_vndf_caps`, `sample_vndf_bounded`), each returning wo = reflect(wi, wm) with its density
-//! on the sphere, and the matching `pdf_*`; their own conventions are stated above `ReflectionSample`.
+//! Below them: four reflection samplers (`sample_ndf`, `sample_vndf_heitz`, `sample_vndf_caps`,
+//! `sample_vndf_bounded`), each returning wo = reflect(wi, wm) with its density on the sphere in a
+//! [`ReflectionSample`], and the matching `pdf_*`.
+//!
+//! Shared conventions of the `sample_*` / `pdf_*` reflection samplers:
+//! * Local frame (normal = +z). `wi` (the direction the sample is reflected from, pointing away
+//!   from the surface) and `wo` must be unit vectors: the densities assume |wi| = |wo| = 1 and
+//!   nothing is renormalized. `u1`, `u2` in [0, 1).
+//! * The density is the density of wo on the whole sphere and integrates to 1 there. A sample may
+//!   land below the horizon (wo.z <= 0); it is returned as is, with its density, and a
+//!   reflection estimator counts it as zero. The fraction of such samples is a measure of a
+//!   sampler's efficiency.
+//! * wm.z <= 0 has no density (D = 0): `pdf_*` returns 0 wherever the half vector that would
+//!   reflect wi to wo lies below the surface.
+//! * alpha = 0 (either axis) is the smooth limit (a Dirac): the samplers return the limiting
+//!   direction (the mirror direction for alpha_x = alpha_y = 0) with pdf 0, and `pdf_*` returns 0,
+//!   as [`ndf::ggx_d`] does. alpha must be finite.
+//! * Invalid input - alpha negative, NaN or infinite, wi zero or not finite - gives NaN in every
+//!   output. `pdf_*` also gives NaN for a NaN wo.
+//! * Back-facing wi (wi.z < 0): per method, see each function. No method flips wi (unlike the
+//!   two-sided [`ggx_sample_visible_heitz2018`]). A wi for which no normal of the upper
+//!   microsurface is visible (wi = -z exactly, or alpha = 0 with wi.z <= 0) gives the "no sample"
+//!   result wo = (0, 0, 0), pdf = 0 from the VNDF samplers.
+//!
+//! ```
+//! use shader_core::vndf::{ggx_sample_visible_heitz2018, ggx_visible_pdf, pdf_vndf_heitz, sample_vndf_heitz};
+//! use shader_core::Vec3;
+//! let wi = Vec3::new(0.6, 0.0, 0.8);
+//! // A sampled visible normal is a unit vector in the upper hemisphere ...
+//! let wm = ggx_sample_visible_heitz2018(wi, 0.3, 0.3, 0.25, 0.75);
+//! assert!(wm.z > 0.0 && (wm.length() - 1.0).abs() < 1e-6);
+//! assert!(ggx_visible_pdf(wi, wm, 0.3, 0.3) > 0.0);
+//! // ... and a reflection sampler's density matches its pdf function.
+//! let s = sample_vndf_heitz(wi, 0.3, 0.3, 0.25, 0.75);
+//! let p = pdf_vndf_heitz(wi, s.wo, 0.3, 0.3);
+//! assert!((s.pdf - p).abs() <= 1e-5 * p, "{} vs {}", s.pdf, p);
+//! // Invalid roughness: NaN in every output.
+//! assert!(sample_vndf_heitz(wi, -1.0, 0.3, 0.25, 0.75).pdf.is_nan());
+//! ```
 
 use crate::fresnel::reflect;
 use crate::ieee;
@@ -62,32 +98,18 @@ pub fn ggx_visible_pdf(w: Vec3, wm: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {
 // ---------------------------------------------------------------------------------------------
 // Reflection samplers: NDF, Heitz 2018 ellipsoid, Dupuy & Benyoub 2023 spherical caps, Eto &
 // Tokuyoshi 2023 bounded VNDF, each returning the reflected direction wo = reflect(wi, wm) and its
-// solid-angle density, with a matching `pdf_*` over the whole sphere of wo (see docs/vndf.md).
+// solid-angle density, with a matching `pdf_*` over the whole sphere of wo.
 //
-// Shared conventions of the `sample_*` / `pdf_*` functions below:
-// * Local frame (normal = +z). `wi` (the direction the sample is reflected from, pointing away
-//   from the surface) and `wo` must be unit vectors: the densities assume |wi| = |wo| = 1 and
-//   nothing is renormalized. `u1`, `u2` in [0, 1).
-// * The density is the density of wo on the whole sphere and integrates to 1 there. A sample may
-//   land below the horizon (wo.z <= 0); it is returned as is, with its density, and a
-//   reflection estimator counts it as zero. The fraction of such samples is what `host bench
-//   vndf` reports.
-// * wm.z <= 0 has no density (D = 0): `pdf_*` returns 0 wherever the half vector that would
-//   reflect wi to wo lies below the surface.
-// * alpha = 0 (either axis) is the smooth limit (a Dirac): the samplers return the limiting
-//   direction (the mirror direction for alpha_x = alpha_y = 0) with pdf 0, and `pdf_*` returns 0,
-//   as [`ndf::ggx_d`] does. alpha must be finite.
-// * Invalid input - alpha negative, NaN or infinite, wi zero or not finite - gives NaN in every
-//   output. `pdf_*` also gives NaN for a NaN wo.
-// * Back-facing wi (wi.z < 0): per method, see each function. No method flips wi (unlike the
-//   two-sided [`ggx_sample_visible_heitz2018`] above). A wi for which no normal of the upper
-//   microsurface is visible (wi = -z exactly, or alpha = 0 with wi.z <= 0) gives the "no sample"
-//   result wo = (0, 0, 0), pdf = 0 from the VNDF samplers.
+// Their shared conventions are listed in the module documentation.
 
 /// A sampled reflection direction and its solid-angle density on the sphere of directions.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ReflectionSample {
+    /// The sampled direction (a unit vector, possibly below the horizon; zero for "no sample", NaN
+    /// for invalid input).
     pub wo: Vec3,
+    /// Its solid-angle density on the whole sphere of directions (per steradian); 0 for "no sample"
+    /// and for the smooth limit, NaN for invalid input.
     pub pdf: f32,
 }
 
@@ -389,7 +411,7 @@ pub fn sample_vndf_bounded(wi: Vec3, alpha_x: f32, alpha_y: f32, u1: f32, u2: f3
 /// The indicator is written without normalizations: with h = wi + wo and h_std = (h.x / alpha_x,
 /// h.y / alpha_y, h.z), o_std.z + k wi_std.z > 0  <=>  2 (wi.h) h.z > (1 - k) wi.z |h_std|^2. It is
 /// tested only for wo.z < 0: the paper's bound says every wo with wo.z >= 0 is inside the cap (checked
-/// on a dense grid in tests/tests/vndf_chi2.rs), and skipping it there keeps the returned density of
+/// on a dense grid by the project's chi-square tests), and skipping it there keeps the returned density of
 /// an upper-hemisphere sample from flipping to 0 by rounding at the cap's edge.
 #[inline]
 pub fn pdf_vndf_bounded(wi: Vec3, wo: Vec3, alpha_x: f32, alpha_y: f32) -> f32 {

@@ -3,6 +3,22 @@
 //!
 //! Conventions: `u0`, `u1` are expected in [0, 1); values outside are not clamped (the maps are
 //! still defined, see each function), NaN propagates.
+//!
+//! ```
+//! use shader_core::warp::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_disk_concentric};
+//! // The centre of the square maps to the centre of the disk.
+//! let c = sample_uniform_disk_concentric(0.5, 0.5);
+//! assert_eq!((c.x, c.y), (0.0, 0.0));
+//! // ... and, lifted onto the hemisphere, to the normal, where the density is 1/pi.
+//! let w = sample_cosine_hemisphere(0.5, 0.5);
+//! assert_eq!((w.x, w.y, w.z), (0.0, 0.0, 1.0));
+//! assert_eq!(cosine_hemisphere_pdf(w.z), core::f32::consts::FRAC_1_PI);
+//! // Every sample lies in the upper hemisphere (z >= 0).
+//! for i in 0..16 {
+//!     let w = sample_cosine_hemisphere(i as f32 / 16.0, 0.3);
+//!     assert!(w.z >= 0.0);
+//! }
+//! ```
 
 use crate::ieee;
 use crate::math;
@@ -12,7 +28,9 @@ use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
 /// A point on the unit disk.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Point2 {
+    /// x coordinate, in [-1, 1] for inputs in [0, 1).
     pub x: f32,
+    /// y coordinate, in [-1, 1] for inputs in [0, 1).
     pub y: f32,
 }
 

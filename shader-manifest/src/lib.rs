@@ -22,8 +22,19 @@ pub const SUBGROUP_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-subgroup
 pub const NATIVE_SPV_PATH: &str = "runner/shaders/shader-kernels-native.spv.gz";
 /// Its manifest.
 pub const NATIVE_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-native.json";
-/// The command that rebuilds all three.
+/// The command that rebuilds all three (and the example module below).
 pub const REBUILD_COMMAND: &str = "cargo xtask build-shaders";
+
+/// The example shader crate built on `shader-core` (`examples/user-shader`): the crates whose
+/// sources its SPIR-V is compiled from, relative to the workspace root.
+pub const USER_SHADER_CRATES: [&str; 2] = ["shader-core", "examples/user-shader"];
+/// The example's committed SPIR-V (gzip-compressed, as the project's own), relative to the
+/// workspace root.
+pub const USER_SHADER_SPV_PATH: &str = "examples/user-shader/user-shader.spv.gz";
+/// Its manifest.
+pub const USER_SHADER_MANIFEST_PATH: &str = "examples/user-shader/user-shader.json";
+/// The command that rebuilds only the example.
+pub const USER_SHADER_REBUILD_COMMAND: &str = "cargo xtask build-shaders --only user-shader";
 
 /// Compress a SPIR-V module as stored in the repository (gzip, best compression, no timestamp:
 /// the same module always gives the same bytes).
@@ -69,8 +80,14 @@ pub fn write_module(root: &Path, rel: &str, spv: &[u8]) -> std::io::Result<()> {
 
 /// Every file of the shader crates that feeds the SPIR-V, as paths relative to `root`, sorted.
 pub fn shader_source_files(root: &Path) -> std::io::Result<Vec<PathBuf>> {
+    source_files_of(root, &SHADER_CRATES)
+}
+
+/// Every source file of `crates` (each crate's `Cargo.toml` and `src/**/*.rs`), as paths relative
+/// to `root`, sorted.
+pub fn source_files_of(root: &Path, crates: &[&str]) -> std::io::Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    for krate in SHADER_CRATES {
+    for &krate in crates {
         files.push(PathBuf::from(krate).join("Cargo.toml"));
         collect_rs(root, &PathBuf::from(krate).join("src"), &mut files)?;
     }
@@ -94,6 +111,11 @@ fn collect_rs(root: &Path, rel: &Path, out: &mut Vec<PathBuf>) -> std::io::Resul
 /// FNV-1a (64 bit) over each file's relative path and bytes (CRLF normalized to LF), in sorted order.
 /// Not cryptographic: it guards against forgetting to rebuild, not against tampering.
 pub fn source_hash(root: &Path) -> std::io::Result<String> {
+    source_hash_of(root, &SHADER_CRATES)
+}
+
+/// [`source_hash`] over the sources of `crates` ([`source_files_of`]).
+pub fn source_hash_of(root: &Path, crates: &[&str]) -> std::io::Result<String> {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |bytes: &[u8]| {
         for &b in bytes {
@@ -101,7 +123,7 @@ pub fn source_hash(root: &Path) -> std::io::Result<String> {
             h = h.wrapping_mul(0x0000_0100_0000_01b3);
         }
     };
-    for rel in shader_source_files(root)? {
+    for rel in source_files_of(root, crates)? {
         let text = std::fs::read(root.join(&rel))?;
         let text: Vec<u8> = normalize_newlines(&text);
         eat(rel.to_string_lossy().replace('\\', "/").as_bytes());

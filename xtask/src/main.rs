@@ -3,7 +3,10 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use cargo_gpu_install::spirv_builder::Capability;
-use shader_manifest::{Manifest, MANIFEST_PATH, NATIVE_MANIFEST_PATH, NATIVE_SPV_PATH, SPV_PATH, SUBGROUP_MANIFEST_PATH, SUBGROUP_SPV_PATH};
+use shader_manifest::{
+    Manifest, MANIFEST_PATH, NATIVE_MANIFEST_PATH, NATIVE_SPV_PATH, SHADER_CRATES, SPV_PATH, SUBGROUP_MANIFEST_PATH, SUBGROUP_SPV_PATH,
+    USER_SHADER_CRATES, USER_SHADER_MANIFEST_PATH, USER_SHADER_SPV_PATH,
+};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -22,7 +25,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Compile `shader-kernels` to SPIR-V with rust-gpu and store it (with its manifest) under runner/shaders/.
+    /// Compile `shader-kernels` to SPIR-V with rust-gpu and store it (with its manifest) under runner/shaders/,
+    /// and the example shader crate `examples/user-shader` beside its sources.
     ///
     /// The first run on a machine installs the pinned nightly (rust-src, rustc-dev, llvm-tools) and
     /// builds the `rustc_codegen_spirv` backend into the user cache (~/.cache/rust-gpu); the
@@ -31,6 +35,9 @@ enum Cmd {
         /// Rebuild into a temporary directory and fail if the committed SPIR-V or manifest differ.
         #[arg(long)]
         check: bool,
+        /// Only these modules (comma separated): kernels, native, subgroup, user-shader. Default: all.
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
     },
     /// Run the whole test suite, CPU-vs-GPU comparisons included (the README's test command).
     ///
@@ -70,7 +77,7 @@ fn workspace_root() -> PathBuf {
 
 fn main() -> Result<()> {
     match Cli::parse().cmd {
-        Cmd::BuildShaders { check } => build_shaders(check),
+        Cmd::BuildShaders { check, only } => build_shaders(check, &only),
         Cmd::Test {
             install_lavapipe,
             rest,
@@ -153,7 +160,16 @@ fn splice_ssr_section(doc: &Path, section: &str) -> Result<()> {
     std::fs::write(doc, new).with_context(|| format!("writing {}", doc.display()))
 }
 
-fn build_shaders(check: bool) -> Result<()> {
+/// The modules `cargo xtask build-shaders` writes (the names `--only` takes).
+const MODULES: [&str; 4] = ["kernels", "native", "subgroup", "user-shader"];
+
+fn build_shaders(check: bool, only: &[String]) -> Result<()> {
+    for name in only {
+        if !MODULES.contains(&name.as_str()) {
+            bail!("unknown module {name:?}; known: {}", MODULES.join(", "));
+        }
+    }
+    let wanted = |m: &str| only.is_empty() || only.iter().any(|o| o == m);
     let root = workspace_root();
     let shader_crate = root.join("shader-kernels");
     let t0 = Instant::now();
@@ -179,29 +195,42 @@ fn build_shaders(check: bool) -> Result<()> {
         backend.rustc_codegen_spirv_location.display()
     );
 
-    build_module(&backend, &root, &shader_crate, &[], &[], SPV_PATH, MANIFEST_PATH, "spirv-builder", check)?;
+    if wanted("kernels") {
+        build_module(&backend, &root, &shader_crate, &[], &[], &SHADER_CRATES, SPV_PATH, MANIFEST_PATH, "spirv-builder", check)?;
+    }
     // The same kernels with native OpFDiv / Sqrt (shader_core::ieee::EXACT = false), for the
     // speed comparison and drivers known to round them correctly (docs/exactness.md).
-    build_module(&backend, &root, &shader_crate, &["native-div-sqrt"], &[], NATIVE_SPV_PATH, NATIVE_MANIFEST_PATH, "spirv-builder-native", check)?;
+    if wanted("native") {
+        build_module(&backend, &root, &shader_crate, &["native-div-sqrt"], &[], &SHADER_CRATES, NATIVE_SPV_PATH, NATIVE_MANIFEST_PATH, "spirv-builder-native", check)?;
+    }
     // The subgroup module: only the kernels that need subgroup operations, with their capabilities
     // (a device without them could not load a module declaring them; see shader-kernels/src/lib.rs).
-    build_module(
-        &backend,
-        &root,
-        &shader_crate,
-        &["subgroup-module"],
-        &[Capability::GroupNonUniform, Capability::GroupNonUniformArithmetic],
-        SUBGROUP_SPV_PATH,
-        SUBGROUP_MANIFEST_PATH,
-        "spirv-builder-subgroup",
-        check,
-    )?;
+    if wanted("subgroup") {
+        build_module(
+            &backend,
+            &root,
+            &shader_crate,
+            &["subgroup-module"],
+            &[Capability::GroupNonUniform, Capability::GroupNonUniformArithmetic],
+            &SHADER_CRATES,
+            SUBGROUP_SPV_PATH,
+            SUBGROUP_MANIFEST_PATH,
+            "spirv-builder-subgroup",
+            check,
+        )?;
+    }
+    // The example of a shader crate of one's own on shader-core (README, "Your own shader crate
+    // on shader-core"): same backend, same post-processing. It shares the main module's target
+    // directory, so shader-core and spirv-std are compiled for SPIR-V only once.
+    if wanted("user-shader") {
+        build_module(&backend, &root, &root.join("examples/user-shader"), &[], &[], &USER_SHADER_CRATES, USER_SHADER_SPV_PATH, USER_SHADER_MANIFEST_PATH, "spirv-builder", check)?;
+    }
     Ok(())
 }
 
 /// Build one SPIR-V module of `shader_crate` (with `features` and extra `capabilities`), apply the
-/// float decorations, and write it and its manifest to `spv_rel` / `manifest_rel` (or, with
-/// `check`, compare against the committed files).
+/// float decorations, and write it and its manifest (whose source hash covers `hash_crates`) to
+/// `spv_rel` / `manifest_rel` (or, with `check`, compare against the committed files).
 #[allow(clippy::too_many_arguments)]
 fn build_module(
     backend: &cargo_gpu_install::install::InstalledBackend,
@@ -209,6 +238,7 @@ fn build_module(
     shader_crate: &Path,
     features: &[&str],
     capabilities: &[Capability],
+    hash_crates: &[&str],
     spv_rel: &str,
     manifest_rel: &str,
     target_dir: &str,
@@ -232,7 +262,7 @@ fn build_module(
     builder.extra_args.push("--no-spirv-opt".into());
     // Keep the shader build's own target dir outside the host's so a host `cargo build` never races it.
     builder.target_dir_path = Some(root.join("target").join(target_dir));
-    let result = builder.build().context("compiling shader-kernels to SPIR-V")?;
+    let result = builder.build().with_context(|| format!("compiling {} to SPIR-V", shader_crate.display()))?;
     let spv_path = result.module.unwrap_single().to_path_buf();
     let raw = std::fs::read(&spv_path).with_context(|| format!("reading {}", spv_path.display()))?;
     // Forbid the driver from contracting or reassociating float arithmetic (see shader-manifest).
@@ -259,7 +289,7 @@ fn build_module(
     );
 
     let manifest = Manifest {
-        source_hash: shader_manifest::source_hash(root).context("hashing shader sources")?,
+        source_hash: shader_manifest::source_hash_of(root, hash_crates).context("hashing shader sources")?,
         spv_bytes: spv.len() as u64,
         toolchain: backend.toolchain_channel.clone(),
         spirv_builder: SPIRV_BUILDER.into(),

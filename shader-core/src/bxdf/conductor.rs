@@ -3,6 +3,23 @@
 //! GGX D, height-correlated Smith G and the complex Fresnel equations per RGB channel; sampled by
 //! visible normals (pdf = D_wo(wm) / (4 |wo.wm|), PBRT-v4 eq. 9.36). Effectively smooth alpha
 //! gives the Fresnel-weighted perfect mirror.
+//!
+//! ```
+//! use shader_core::bxdf::{BxDF, ConductorBxDF, TrowbridgeReitz, MODE_RADIANCE, GLOSSY_REFLECTION};
+//! use shader_core::Vec3;
+//! // Gold-like complex IOR per RGB channel, GGX alpha 0.3.
+//! let gold = ConductorBxDF::new(TrowbridgeReitz::new(0.3, 0.3), Vec3::new(0.18, 0.42, 1.37), Vec3::new(3.42, 2.35, 1.77));
+//! assert!(gold.is_valid());
+//! assert_eq!(gold.flags(), GLOSSY_REFLECTION);
+//! let (wo, wi) = (Vec3::new(0.3, 0.1, 0.9), Vec3::new(-0.5, 0.2, 0.7));
+//! let f = gold.f(wo, wi, MODE_RADIANCE);
+//! assert!(f.x > 0.0 && f.y > 0.0 && f.z > 0.0);
+//! // Reciprocal to the bit.
+//! assert_eq!(f, gold.f(wi, wo, MODE_RADIANCE));
+//! // eta = k = 0 in a channel is invalid: NaN.
+//! let bad = ConductorBxDF::new(TrowbridgeReitz::new(0.3, 0.3), Vec3::ZERO, Vec3::ZERO);
+//! assert!(bad.f(wo, wi, MODE_RADIANCE).x.is_nan());
+//! ```
 
 use crate::ieee;
 use super::microfacet::TrowbridgeReitz;
@@ -18,8 +35,11 @@ use crate::vector::Vec3;
 /// (as [`fresnel::conductor`]); anything else -> NaN outputs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ConductorBxDF {
+    /// The GGX microfacet distribution (roughness alpha_x, alpha_y).
     pub distrib: TrowbridgeReitz,
+    /// Real part of the relative complex IOR per RGB channel (>= 0).
     pub eta: Vec3,
+    /// Extinction coefficient (imaginary part of the IOR) per RGB channel (>= 0).
     pub k: Vec3,
 }
 
@@ -29,11 +49,13 @@ fn channel_valid(eta: f32, k: f32) -> bool {
 }
 
 impl ConductorBxDF {
+    /// The conductor with these parameters, stored as given (check with [`ConductorBxDF::is_valid`]).
     #[inline]
     pub fn new(distrib: TrowbridgeReitz, eta: Vec3, k: Vec3) -> Self {
         ConductorBxDF { distrib, eta, k }
     }
 
+    /// True when the roughness and every channel's (eta, k) are valid (see the type's documentation).
     #[inline]
     pub fn is_valid(&self) -> bool {
         self.distrib.is_valid()

@@ -1,5 +1,15 @@
 //! Lambertian reflection (PBRT-v4 `DiffuseBxDF`, section 9.2): f = R / pi, sampled with Malley's
 //! cosine-weighted hemisphere (concentric disk), pdf = |cos theta_i| / pi.
+//!
+//! ```
+//! use shader_core::bxdf::{BxDF, DiffuseBxDF, MODE_RADIANCE, SAMPLE_ALL};
+//! use shader_core::Vec3;
+//! let d = DiffuseBxDF::new(Vec3::new(1.0, 1.0, 1.0));
+//! let wo = Vec3::new(0.0, 0.0, -1.0); // below the surface: the BxDF is two-sided
+//! let s = d.sample_f(wo, 0.0, 0.5, 0.5, MODE_RADIANCE, SAMPLE_ALL);
+//! assert_eq!(s.wi, Vec3::new(0.0, 0.0, -1.0)); // the centre of the square maps to -wo's normal
+//! assert_eq!(s.pdf, core::f32::consts::FRAC_1_PI); // |cos| / pi
+//! ```
 
 use super::{is_zero, same_hemisphere, unit_or_zero, BSDFSample, BxDF, DIFFUSE_REFLECTION, SAMPLE_REFLECTION};
 use crate::vector::Vec3;
@@ -9,10 +19,12 @@ use core::f32::consts::FRAC_1_PI;
 /// Lambertian reflection with reflectance `r` (RGB; valid: finite components, NaN/inf -> NaN out).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DiffuseBxDF {
+    /// Reflectance R per RGB channel (usually in [0, 1]; not clamped).
     pub r: Vec3,
 }
 
 impl DiffuseBxDF {
+    /// The Lambertian BxDF of reflectance `r`.
     #[inline]
     pub fn new(r: Vec3) -> Self {
         DiffuseBxDF { r }

@@ -13,7 +13,8 @@
 //!
 //! h = normalize(wo + wi). The spec's example uses the separable G1(wo) G1(wi); this module uses
 //! the height-correlated Smith G2 of the other BxDFs (the spec allows any Smith joint form).
-//! This is a single-scattering model: it loses energy (see docs/bxdf.md, white furnace).
+//! This is a single-scattering model: it loses energy (a white-furnace test returns less than 1
+//! at high roughness; see [`crate::energy`] for the compensation).
 //! Effectively smooth alpha (< 1e-3) makes the specular lobe a Dirac delta: `f` then holds only
 //! the diffuse part, and `sample_f` picks the mirror direction with probability p_spec.
 //!
@@ -25,6 +26,22 @@
 //!
 //! Parameters are clamped to the spec's [0, 1] (base color per channel, metallic, roughness);
 //! NaN parameters give NaN outputs. Two-sided: wo below the surface reflects below.
+//!
+//! ```
+//! use shader_core::bxdf::{BxDF, GltfMetalRoughBxDF, MODE_RADIANCE, SAMPLE_ALL};
+//! use shader_core::Vec3;
+//! let m = GltfMetalRoughBxDF::new(Vec3::new(0.9, 0.6, 0.2), 0.5, 0.4);
+//! assert_eq!(m.distrib.alpha_x, 0.4 * 0.4); // alpha = roughness^2
+//! // Parameters are clamped to [0, 1].
+//! assert_eq!(GltfMetalRoughBxDF::new(Vec3::new(2.0, -1.0, 0.5), 1.5, -0.2).metallic, 1.0);
+//! // sample_f returns the full f and the mixture pdf: the same as f() and pdf() for that wi.
+//! let wo = Vec3::new(0.4, -0.2, 0.89);
+//! let s = m.sample_f(wo, 0.3, 0.6, 0.2, MODE_RADIANCE, SAMPLE_ALL);
+//! assert!(s.is_valid());
+//! let (f, pdf) = (m.f(wo, s.wi, MODE_RADIANCE), m.pdf(wo, s.wi, MODE_RADIANCE, SAMPLE_ALL));
+//! assert!((s.pdf - pdf).abs() <= 1e-4 * pdf && (s.f.x - f.x).abs() <= 1e-4 * f.x);
+//! assert!((GltfMetalRoughBxDF::dielectric_f0() - 0.04).abs() < 1e-8);
+//! ```
 
 use crate::ieee;
 use super::microfacet::{roughness_to_alpha, TrowbridgeReitz};
@@ -66,8 +83,11 @@ pub struct LobeTerms {
 /// glTF metal-rough material: base color (linear RGB), metallic, perceptual roughness.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GltfMetalRoughBxDF {
+    /// Base colour, linear RGB, each channel in [0, 1] (clamped by [`GltfMetalRoughBxDF::new`]).
     pub base: Vec3,
+    /// Metallic factor in [0, 1]: 0 dielectric, 1 metal.
     pub metallic: f32,
+    /// Perceptual roughness in [0, 1] (alpha = roughness^2).
     pub roughness: f32,
     /// GGX with alpha_x = alpha_y = roughness^2.
     pub distrib: TrowbridgeReitz,
@@ -84,6 +104,7 @@ impl GltfMetalRoughBxDF {
         GltfMetalRoughBxDF { base, metallic, roughness, distrib: TrowbridgeReitz::new(alpha, alpha) }
     }
 
+    /// True unless a parameter is NaN.
     #[inline]
     pub fn is_valid(&self) -> bool {
         !(self.base.x.is_nan() || self.base.y.is_nan() || self.base.z.is_nan() || self.metallic.is_nan() || self.roughness.is_nan())

@@ -1,6 +1,20 @@
 //! The Trowbridge-Reitz (GGX) microfacet distribution as the BxDFs use it (PBRT-v4
 //! `TrowbridgeReitzDistribution`, section 9.6): D from [`crate::ndf::ggx_d`], Lambda and G1 from
 //! [`crate::masking`], the height-correlated G, and visible-normal sampling from [`crate::vndf`].
+//!
+//! ```
+//! use shader_core::bxdf::microfacet::{roughness_to_alpha, TrowbridgeReitz};
+//! use shader_core::Vec3;
+//! let tr = TrowbridgeReitz::new(roughness_to_alpha(0.5), roughness_to_alpha(0.5));
+//! assert_eq!(tr.alpha_x, 0.25);
+//! // The same values as the free functions it wraps.
+//! assert_eq!(tr.d(Vec3::Z), shader_core::ndf::ggx_d(Vec3::Z, 0.25, 0.25));
+//! // Height-correlated G: 1 along the normal, 0 at grazing.
+//! assert_eq!(tr.g(Vec3::Z, Vec3::Z), 1.0);
+//! assert_eq!(tr.g(Vec3::Z, Vec3::new(1.0, 0.0, 0.0)), 0.0);
+//! assert!(!tr.effectively_smooth() && TrowbridgeReitz::new(1e-4, 5e-4).effectively_smooth());
+//! assert!(!TrowbridgeReitz::new(-1.0, 0.1).is_valid());
+//! ```
 
 use crate::masking;
 use crate::ndf;
@@ -12,11 +26,14 @@ use super::SMOOTH_ALPHA;
 /// Anisotropic GGX with roughness `alpha_x`, `alpha_y` (valid: 0 <= alpha < inf).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TrowbridgeReitz {
+    /// Roughness alpha along the tangent (x) axis.
     pub alpha_x: f32,
+    /// Roughness alpha along the bitangent (y) axis.
     pub alpha_y: f32,
 }
 
 impl TrowbridgeReitz {
+    /// The distribution with these alphas, stored as given (check with [`TrowbridgeReitz::is_valid`]).
     #[inline]
     pub fn new(alpha_x: f32, alpha_y: f32) -> Self {
         TrowbridgeReitz { alpha_x, alpha_y }

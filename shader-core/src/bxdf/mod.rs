@@ -1,7 +1,7 @@
 //! PBRT-v4 style BxDFs (Pharr, Jakob, Humphreys, "Physically Based Rendering", 4th ed., chapter 9)
 //! behind one interface, [`BxDF`]: `f(wo, wi)`, `sample_f(wo, uc, u) -> BSDFSample`, `pdf(wo, wi)`.
 //!
-//! Conventions (all BxDFs, documented in docs/bxdf.md):
+//! Conventions (all BxDFs):
 //! * Local shading frame, normal = +z. `wo` (towards the viewer) and `wi` (towards the light) both
 //!   point away from the surface. Inputs need not be unit vectors: every entry point rescales and
 //!   normalizes them ([`unit_or_zero`]); a zero, infinite or NaN direction is *degenerate*.
@@ -21,6 +21,24 @@
 //! * Degenerate directions -> f = 0, pdf = 0, invalid sample (all zero). Invalid material
 //!   parameters (NaN, alpha < 0 or inf, eta <= 0, ...) -> f and pdf NaN, sample flags 0 with NaN
 //!   f and pdf.
+//!
+//! ```
+//! use shader_core::bxdf::{BxDF, DiffuseBxDF, MODE_RADIANCE, SAMPLE_ALL, DIFFUSE_REFLECTION};
+//! use shader_core::Vec3;
+//! let lambert = DiffuseBxDF::new(Vec3::new(0.5, 0.5, 0.5));
+//! let (wo, wi) = (Vec3::new(0.0, 0.6, 0.8), Vec3::new(0.8, 0.0, 0.6));
+//! // f has no cosine: R / pi.
+//! assert_eq!(lambert.f(wo, wi, MODE_RADIANCE), Vec3::new(0.5, 0.5, 0.5) * core::f32::consts::FRAC_1_PI);
+//! // Opposite hemispheres: no reflection. Degenerate (zero) direction: f = 0.
+//! assert_eq!(lambert.f(wo, -wi, MODE_RADIANCE), Vec3::ZERO);
+//! assert_eq!(lambert.f(Vec3::ZERO, wi, MODE_RADIANCE), Vec3::ZERO);
+//! // A sample carries its flags and its solid-angle density, which pdf() reproduces.
+//! let s = lambert.sample_f(wo, 0.5, 0.3, 0.7, MODE_RADIANCE, SAMPLE_ALL);
+//! assert!(s.is_valid() && s.flags == DIFFUSE_REFLECTION && s.wi.z > 0.0);
+//! assert!((s.pdf - lambert.pdf(wo, s.wi, MODE_RADIANCE, SAMPLE_ALL)).abs() < 1e-6);
+//! // Invalid parameters: NaN.
+//! assert!(DiffuseBxDF::new(Vec3::new(f32::NAN, 0.0, 0.0)).f(wo, wi, MODE_RADIANCE).x.is_nan());
+//! ```
 
 pub mod conductor;
 pub mod dielectric;
@@ -39,27 +57,41 @@ pub use specular::SpecularReflectionBxDF;
 use crate::ieee;
 use crate::vector::Vec3;
 
-/// BxDF flag bits (PBRT-v4 `BxDFFlags`).
+/// BxDF flag bit (PBRT-v4 `BxDFFlags`): the lobe reflects (wi on wo's side).
 pub const REFLECTION: u32 = 1;
+/// BxDF flag bit: the lobe transmits (wi on the other side of the surface).
 pub const TRANSMISSION: u32 = 2;
+/// BxDF flag bit: a diffuse lobe.
 pub const DIFFUSE: u32 = 4;
+/// BxDF flag bit: a glossy (rough microfacet) lobe.
 pub const GLOSSY: u32 = 8;
+/// BxDF flag bit: a Dirac delta (perfectly specular) lobe.
 pub const SPECULAR: u32 = 16;
+/// [`DIFFUSE`] | [`REFLECTION`].
 pub const DIFFUSE_REFLECTION: u32 = DIFFUSE | REFLECTION;
+/// [`GLOSSY`] | [`REFLECTION`].
 pub const GLOSSY_REFLECTION: u32 = GLOSSY | REFLECTION;
+/// [`SPECULAR`] | [`REFLECTION`].
 pub const SPECULAR_REFLECTION: u32 = SPECULAR | REFLECTION;
+/// [`DIFFUSE`] | [`TRANSMISSION`].
 pub const DIFFUSE_TRANSMISSION: u32 = DIFFUSE | TRANSMISSION;
+/// [`GLOSSY`] | [`TRANSMISSION`].
 pub const GLOSSY_TRANSMISSION: u32 = GLOSSY | TRANSMISSION;
+/// [`SPECULAR`] | [`TRANSMISSION`].
 pub const SPECULAR_TRANSMISSION: u32 = SPECULAR | TRANSMISSION;
 
-/// Which halves `sample_f` / `pdf` may use (PBRT-v4 `BxDFReflTransFlags`).
+/// Which halves `sample_f` / `pdf` may use (PBRT-v4 `BxDFReflTransFlags`): reflection.
 pub const SAMPLE_REFLECTION: u32 = 1;
+/// `sample_f` / `pdf` may use the transmission half.
 pub const SAMPLE_TRANSMISSION: u32 = 2;
+/// Both halves: [`SAMPLE_REFLECTION`] | [`SAMPLE_TRANSMISSION`].
 pub const SAMPLE_ALL: u32 = 3;
 
 /// Transport mode (PBRT-v4 `TransportMode`): what the path carries. Only the dielectric's
-/// transmission depends on it (radiance is scaled by 1/eta'^2, importance is not).
+/// transmission depends on it (radiance is scaled by 1/eta'^2, importance is not). This one:
+/// radiance (paths traced from the camera).
 pub const MODE_RADIANCE: u32 = 0;
+/// Transport mode: importance (paths traced from the lights); no 1/eta'^2 scaling.
 pub const MODE_IMPORTANCE: u32 = 1;
 
 /// Largest alpha (in both directions) treated as a perfectly smooth surface (PBRT-v4
@@ -93,6 +125,7 @@ impl BSDFSample {
         eta: f32::NAN,
     };
 
+    /// A sample with the given fields, unchecked (see [`BSDFSample::checked`]).
     #[inline]
     pub fn new(f: Vec3, wi: Vec3, pdf: f32, flags: u32, eta: f32) -> Self {
         BSDFSample { f, wi, pdf, flags, eta }

@@ -3,6 +3,17 @@
 //! finite density: `f` and `pdf` return 0, `sample_f` returns wr with f = R / |cos| and pdf = 1.
 //! The Fresnel-weighted mirrors are the smooth branches of [`super::ConductorBxDF`] and
 //! [`super::DielectricBxDF`].
+//!
+//! ```
+//! use shader_core::bxdf::{BxDF, SpecularReflectionBxDF, MODE_RADIANCE, SAMPLE_ALL, SPECULAR_REFLECTION};
+//! use shader_core::Vec3;
+//! let mirror = SpecularReflectionBxDF::new(Vec3::new(0.8, 0.8, 0.8));
+//! let wo = Vec3::new(0.6, 0.0, 0.8);
+//! let s = mirror.sample_f(wo, 0.5, 0.5, 0.5, MODE_RADIANCE, SAMPLE_ALL);
+//! assert_eq!(s.wi, Vec3::new(-0.6, 0.0, 0.8)); // the mirror direction
+//! assert_eq!((s.pdf, s.flags), (1.0, SPECULAR_REFLECTION));
+//! assert_eq!(mirror.pdf(wo, s.wi, MODE_RADIANCE, SAMPLE_ALL), 0.0); // a delta has no density
+//! ```
 
 use super::{is_zero, unit_or_zero, BSDFSample, BxDF, SAMPLE_REFLECTION, SPECULAR_REFLECTION};
 use crate::vector::Vec3;
@@ -10,10 +21,12 @@ use crate::vector::Vec3;
 /// A perfect mirror with reflectance `r` (RGB; NaN/inf components -> NaN outputs).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpecularReflectionBxDF {
+    /// Reflectance R per RGB channel (usually in [0, 1]; not clamped).
     pub r: Vec3,
 }
 
 impl SpecularReflectionBxDF {
+    /// The mirror of reflectance `r`.
     #[inline]
     pub fn new(r: Vec3) -> Self {
         SpecularReflectionBxDF { r }

@@ -3,6 +3,21 @@
 //!
 //! Matrices are row-major and act on column vectors: `p' = M p`. Only constant indices are used
 //! (rows are named fields), as the project's rules require for rust-gpu.
+//!
+//! ```
+//! use shader_core::ssr::mat4::{Mat4, Vec4};
+//! use shader_core::Vec3;
+//! // Row-major, acting on column vectors: a translation lives in the last column.
+//! let t = Mat4::from_rows([1.0, 0.0, 0.0, 2.0, 0.0, 1.0, 0.0, 3.0, 0.0, 0.0, 1.0, 4.0, 0.0, 0.0, 0.0, 1.0]);
+//! assert_eq!(t.transform_point(Vec3::new(1.0, 1.0, 1.0)), Vec3::new(3.0, 4.0, 5.0));
+//! assert_eq!(t.transform_dir(Vec3::Z), Vec3::Z); // directions ignore the translation
+//! assert_eq!(t.mul_vec4(Vec4::new(0.0, 0.0, 0.0, 1.0)), Vec4::new(2.0, 3.0, 4.0, 1.0));
+//! assert_eq!(Mat4::IDENTITY.mul_mat(&t), t);
+//! let (inv, det) = t.inverse_and_det();
+//! assert_eq!(det, 1.0);
+//! assert_eq!(inv.transform_point(Vec3::new(3.0, 4.0, 5.0)), Vec3::new(1.0, 1.0, 1.0));
+//! assert_eq!(Mat4::from_rows(t.to_rows()), t);
+//! ```
 
 use crate::ieee;
 use crate::vector::Vec3;
@@ -11,13 +26,18 @@ use crate::vector::Vec3;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Vec4 {
+    /// x component.
     pub x: f32,
+    /// y component.
     pub y: f32,
+    /// z component.
     pub z: f32,
+    /// w component (1 for points, 0 for directions).
     pub w: f32,
 }
 
 impl Vec4 {
+    /// The vector `(x, y, z, w)`.
     #[inline]
     pub const fn new(x: f32, y: f32, z: f32, w: f32) -> Self {
         Vec4 { x, y, z, w }
@@ -29,6 +49,7 @@ impl Vec4 {
         self.x * o.x + self.y * o.y + self.z * o.z + self.w * o.w
     }
 
+    /// The first three components (no division by w).
     #[inline]
     pub fn xyz(self) -> Vec3 {
         Vec3::new(self.x, self.y, self.z)
@@ -39,13 +60,18 @@ impl Vec4 {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Mat4 {
+    /// Row 0.
     pub r0: Vec4,
+    /// Row 1.
     pub r1: Vec4,
+    /// Row 2.
     pub r2: Vec4,
+    /// Row 3 (`(0, 0, 0, 1)` for an affine transform).
     pub r3: Vec4,
 }
 
 impl Mat4 {
+    /// The identity matrix.
     pub const IDENTITY: Mat4 = Mat4 {
         r0: Vec4::new(1.0, 0.0, 0.0, 0.0),
         r1: Vec4::new(0.0, 1.0, 0.0, 0.0),

@@ -1,57 +1,110 @@
 //! The constants every SSR pass reads: one f32 buffer (`SsrParams::LEN` values; integers stored
 //! as their bits), written by the host and read identically by both backends.
 //!
-//! Conventions (documented in docs/ssr.md):
+//! Conventions:
 //! * View space: x right, y up, +z forward; linear depth = view z > 0; sky = +inf depth.
 //! * Projection: reverse-Z infinite perspective, rows (P00, 0, P02, 0), (0, P11, P12, 0),
 //!   (0, 0, 0, near), (0, 0, 1, 0); device depth d = near / z (1 at the near plane, 0 at infinity).
 //! * Screen space: pixel (i, j) covers [i, i+1) x [j, j+1), row 0 at the top; UV = screen / size.
 //! * Motion vectors: UV(current) - UV(previous), in UV units (HDRP's convention).
+//!
+//! ```
+//! use shader_core::ssr::mat4::Mat4;
+//! use shader_core::ssr::params::{idx, mip_size, SsrParams, FLAG_REUSE};
+//! let mut buf = vec![0.0f32; idx::LEN];
+//! buf[idx::WIDTH] = f32::from_bits(640); // integers travel as their bits
+//! buf[idx::HEIGHT] = f32::from_bits(360);
+//! buf[idx::NEAR] = 0.1;
+//! buf[idx::FLAGS] = f32::from_bits(FLAG_REUSE);
+//! buf[idx::VIEW..idx::VIEW + 16].copy_from_slice(&Mat4::IDENTITY.to_rows());
+//! let p = SsrParams::load(&buf);
+//! assert_eq!((p.width, p.height, p.near, p.flags), (640, 360, 0.1, FLAG_REUSE));
+//! assert_eq!(p.view, Mat4::IDENTITY);
+//! // Mip sizes round up and never reach 0.
+//! assert_eq!((mip_size(640, 1), mip_size(5, 1), mip_size(5, 9)), (320, 3, 1));
+//! ```
 
 use super::mat4::Mat4;
 
-/// Index of each value in the parameter buffer.
+/// Index of each value in the parameter buffer (see [`SsrParams`] for what each value means).
 pub mod idx {
+    /// Word of [`super::SsrParams::width`] (a `u32` stored as its bits).
     pub const WIDTH: usize = 0;
+    /// Word of [`super::SsrParams::height`] (a `u32` stored as its bits).
     pub const HEIGHT: usize = 1;
+    /// Word of [`super::SsrParams::near`] (an `f32`).
     pub const NEAR: usize = 2;
+    /// Word of [`super::SsrParams::thickness_scale`] (an `f32`).
     pub const THICKNESS_SCALE: usize = 3;
+    /// Word of [`super::SsrParams::thickness_bias`] (an `f32`).
     pub const THICKNESS_BIAS: usize = 4;
+    /// Word of [`super::SsrParams::edge_fade_rcp_length`] (an `f32`).
     pub const EDGE_FADE_RCP_LENGTH: usize = 5;
+    /// Word of [`super::SsrParams::roughness_fade_rcp_length`] (an `f32`).
     pub const ROUGHNESS_FADE_RCP_LENGTH: usize = 6;
+    /// Word of [`super::SsrParams::roughness_fade_end_times_rcp_length`] (an `f32`).
     pub const ROUGHNESS_FADE_END_TIMES_RCP_LENGTH: usize = 7;
+    /// Word of [`super::SsrParams::roughness_fade_end`] (an `f32`).
     pub const ROUGHNESS_FADE_END: usize = 8;
+    /// Word of [`super::SsrParams::hiz_max_iterations`] (a `u32` stored as its bits).
     pub const HIZ_MAX_ITERATIONS: usize = 9;
+    /// Word of [`super::SsrParams::depth_max_mip`] (a `u32` stored as its bits).
     pub const DEPTH_MAX_MIP: usize = 10;
+    /// Word of [`super::SsrParams::linear_steps`] (a `u32` stored as its bits).
     pub const LINEAR_STEPS: usize = 11;
+    /// Word of [`super::SsrParams::trace_mode`] (a `u32` stored as its bits).
     pub const TRACE_MODE: usize = 12;
+    /// Word of [`super::SsrParams::color_max_mip`] (a `u32` stored as its bits).
     pub const COLOR_MAX_MIP: usize = 13;
+    /// Word of [`super::SsrParams::frame`] (a `u32` stored as its bits).
     pub const FRAME: usize = 14;
+    /// Word of [`super::SsrParams::flags`] (a `u32` stored as its bits).
     pub const FLAGS: usize = 15;
+    /// Word of [`super::SsrParams::hiz_roughness_cut`] (an `f32`).
     pub const HIZ_ROUGHNESS_CUT: usize = 16;
+    /// Word of [`super::SsrParams::rough_linear_steps`] (a `u32` stored as its bits).
     pub const ROUGH_LINEAR_STEPS: usize = 17;
+    /// Word of [`super::SsrParams::samples_per_pixel`] (a `u32` stored as its bits).
     pub const SAMPLES_PER_PIXEL: usize = 18;
+    /// Word of [`super::SsrParams::rays_per_quad`] (a `u32` stored as its bits).
     pub const RAYS_PER_QUAD: usize = 19;
+    /// Word of [`super::SsrParams::sample_bias`] (an `f32`).
     pub const SAMPLE_BIAS: usize = 20;
+    /// Word of [`super::SsrParams::resolve_radius`] (a `u32` stored as its bits).
     pub const RESOLVE_RADIUS: usize = 21;
+    /// Word of [`super::SsrParams::temporal_alpha`] (an `f32`).
     pub const TEMPORAL_ALPHA: usize = 22;
+    /// Word of [`super::SsrParams::mip_count`] (a `u32` stored as its bits).
     pub const MIP_COUNT: usize = 23;
+    /// Word of [`super::SsrParams::sampler`] (a `u32` stored as its bits).
     pub const SAMPLER: usize = 24;
+    /// Word of [`super::SsrParams::history_depth_tolerance`] (an `f32`).
     pub const HISTORY_DEPTH_TOLERANCE: usize = 25;
+    /// Word of [`super::SsrParams::history_normal_cos`] (an `f32`).
     pub const HISTORY_NORMAL_COS: usize = 26;
+    /// Word of [`super::SsrParams::temporal_reprojection`] (a `u32` stored as its bits).
     pub const TEMPORAL_REPROJECTION: usize = 27;
+    /// Word of [`super::SsrParams::history_roughness_tolerance`] (an `f32`).
     pub const HISTORY_ROUGHNESS_TOLERANCE: usize = 28;
+    /// First of the 16 row-major words of [`super::SsrParams::view`].
     pub const VIEW: usize = 32;
+    /// First of the 16 row-major words of [`super::SsrParams::proj`].
     pub const PROJ: usize = 48;
+    /// First of the 16 row-major words of [`super::SsrParams::inv_view`].
     pub const INV_VIEW: usize = 64;
+    /// First of the 16 row-major words of [`super::SsrParams::prev_proj`].
     pub const PREV_PROJ: usize = 80;
+    /// First of the 16 row-major words of [`super::SsrParams::prev_inv_view`].
     pub const PREV_INV_VIEW: usize = 96;
+    /// Number of `f32` words in the parameter buffer (indices 29-31 are unused padding).
     pub const LEN: usize = 112;
 }
 
-/// Trace modes.
+/// Trace mode (the `TRACE_MODE` value): HDRP's hierarchical-Z march over the depth pyramid.
 pub const TRACE_HIZ: u32 = 0;
+/// Trace mode: a fixed number of linear steps in screen space ([`SsrParams::linear_steps`]).
 pub const TRACE_LINEAR: u32 = 1;
+/// Trace mode: every pixel along the ray (reference tracer; slow).
 pub const TRACE_BRUTE_FORCE: u32 = 2;
 /// Linear march that also accepts a surface crossed between two steps (the stochastic
 /// pipeline's cheap tracer for rough rays).
@@ -62,15 +115,18 @@ pub const TRACE_LINEAR_CROSSING: u32 = 3;
 /// coordinate: u1 for Heitz (disk radius r = sqrt(u1)), u2 for the spherical caps and the
 /// bounded caps (cap height z = (1 - u2)(1 + b) - b; their u1 is the azimuth).
 pub const SAMPLER_HEITZ: u32 = 0;
+/// Sampler: Dupuy & Benyoub 2023 spherical caps ([`crate::vndf::sample_vndf_caps`]).
 pub const SAMPLER_CAPS: u32 = 1;
+/// Sampler: Eto & Tokuyoshi 2023 bounded VNDF ([`crate::vndf::sample_vndf_bounded`]).
 pub const SAMPLER_BOUNDED: u32 = 2;
 
 /// Temporal reprojection of the reflection history (the `TEMPORAL_REPROJECTION` value): through
 /// the surface's motion vector, or through the reflected hit's virtual image.
 pub const REPROJECT_SURFACE: u32 = 0;
+/// Reprojection through the reflected hit point's virtual image.
 pub const REPROJECT_HIT: u32 = 1;
 
-/// Flag bits.
+/// Flag bit: reject hits on surfaces facing away from the ray (HDRP's back-face rejection).
 pub const FLAG_BACKFACE_REJECT: u32 = 1;
 /// Stochastic pass: sample rays from the GGX VNDF (otherwise mirror rays).
 pub const FLAG_STOCHASTIC: u32 = 2;
@@ -85,30 +141,61 @@ pub const FLAG_SAMPLED_PDF: u32 = 16;
 /// The decoded parameters.
 #[derive(Clone, Copy, Debug)]
 pub struct SsrParams {
+    /// Render-target width in pixels.
     pub width: u32,
+    /// Render-target height in pixels.
     pub height: u32,
+    /// Near-plane distance (view-space units, > 0) of the reverse-Z projection: device depth = near / z.
     pub near: f32,
+    /// Object thickness assumed behind the depth buffer, as a multiple of the surface depth (HDRP's
+    /// `_SsrThicknessScale`): a ray hits when it is behind the surface by less than
+    /// `depth * thickness_scale + thickness_bias`.
     pub thickness_scale: f32,
+    /// Constant part of the assumed thickness (HDRP's `_SsrThicknessBias`), linear-depth units.
     pub thickness_bias: f32,
+    /// 1 / width of the screen-edge fade, in UV units (HDRP's `_SsrEdgeFadeRcpLength`).
     pub edge_fade_rcp_length: f32,
+    /// 1 / length of the perceptual-roughness fade (HDRP's `_SsrRoughnessFadeRcpLength`).
     pub roughness_fade_rcp_length: f32,
+    /// Fade end times 1 / fade length (HDRP's `_SsrRoughnessFadeEndTimesRcpLength`).
     pub roughness_fade_end_times_rcp_length: f32,
+    /// Perceptual roughness above which no ray is traced (the fade reaches 0).
     pub roughness_fade_end: f32,
+    /// Largest number of Hi-Z march iterations per ray.
     pub hiz_max_iterations: u32,
+    /// Coarsest level of the depth (Hi-Z) pyramid the tracer may use.
     pub depth_max_mip: u32,
+    /// Number of steps of the linear tracers.
     pub linear_steps: u32,
+    /// Tracer: [`TRACE_HIZ`], [`TRACE_LINEAR`], [`TRACE_BRUTE_FORCE`] or [`TRACE_LINEAR_CROSSING`].
     pub trace_mode: u32,
+    /// Coarsest level of the colour pyramid the resolve samples.
     pub color_max_mip: u32,
+    /// Frame index: seeds the per-pixel random numbers and rotates the rays-per-quad pattern.
     pub frame: u32,
+    /// `FLAG_*` bits ([`FLAG_BACKFACE_REJECT`], [`FLAG_STOCHASTIC`], [`FLAG_FIS`], [`FLAG_REUSE`],
+    /// [`FLAG_SAMPLED_PDF`]).
     pub flags: u32,
+    /// Stochastic pipeline: perceptual roughness below which a tile's rays use Hi-Z tracing (rougher
+    /// ones the cheap linear tracer).
     pub hiz_roughness_cut: f32,
+    /// Number of steps of [`TRACE_LINEAR_CROSSING`] (the rough rays' tracer).
     pub rough_linear_steps: u32,
+    /// Stochastic rays per traced pixel.
     pub samples_per_pixel: u32,
+    /// Traced pixels per 2x2 quad: 4 (all), 2 (checkerboard, alternating per frame) or 1 (one per
+    /// quad, rotating per frame); the others reuse their neighbours' rays.
     pub rays_per_quad: u32,
+    /// Importance-sampling bias in [0, 0.999]: the fraction of the lobe's tail cut from the sampled u
+    /// (0 = unbiased).
     pub sample_bias: f32,
+    /// Neighbourhood radius in pixels of the ray-reuse resolve (0: own rays only).
     pub resolve_radius: u32,
+    /// Smallest weight of the current frame in the temporal accumulation (exponential moving average).
     pub temporal_alpha: f32,
+    /// Number of levels of the depth and colour pyramids (level 0 included).
     pub mip_count: u32,
+    /// Ray sampler: [`SAMPLER_HEITZ`], [`SAMPLER_CAPS`] or [`SAMPLER_BOUNDED`].
     pub sampler: u32,
     /// History rejection: largest relative difference of linear depth between the pixel and its
     /// reprojected history texel (0 or less: no depth test).
@@ -116,15 +203,20 @@ pub struct SsrParams {
     /// History rejection: smallest cosine between the pixel's normal and the history texel's
     /// (-1 or less: no normal test).
     pub history_normal_cos: f32,
+    /// History reprojection: [`REPROJECT_SURFACE`] or [`REPROJECT_HIT`].
     pub temporal_reprojection: u32,
     /// History rejection: largest difference of perceptual roughness between the pixel and the
     /// history texel's surface (negative: no roughness test).
     pub history_roughness_tolerance: f32,
+    /// World-to-view transform of the current frame.
     pub view: Mat4,
+    /// View-to-clip projection of the current frame (reverse-Z infinite perspective).
     pub proj: Mat4,
+    /// View-to-world transform of the current frame (the inverse of `view`).
     pub inv_view: Mat4,
     /// The previous frame's camera (history rejection reconstructs its positions).
     pub prev_proj: Mat4,
+    /// The previous frame's view-to-world transform.
     pub prev_inv_view: Mat4,
 }
 

@@ -3,6 +3,16 @@
 //!
 //! Output texels are premultiplied: (rgb * opacity, opacity); a consumer composites
 //! `rgb + (1 - opacity) * fallback` (a reflection probe or the sky).
+//!
+//! ```
+//! use shader_core::ssr::resolve::{remap10, smoothstep01};
+//! // HDRP's Remap10: 1 before the fade starts, 0 past its end, linear between.
+//! // A fade from 0.6 to 0.8: rcp_length = 1 / 0.2 = 5, end * rcp_length = 4.
+//! assert_eq!(remap10(0.5, 5.0, 4.0), 1.0);
+//! assert_eq!(remap10(0.7, 5.0, 4.0), 4.0 - 0.7 * 5.0);
+//! assert_eq!(remap10(0.9, 5.0, 4.0), 0.0);
+//! assert_eq!((smoothstep01(0.0), smoothstep01(0.5), smoothstep01(1.0)), (0.0, 0.5, 1.0));
+//! ```
 
 use crate::ieee;
 use super::params::{mip_size, SsrParams};
@@ -156,12 +166,17 @@ pub fn color_downsample_texel(p: &SsrParams, pyr: &[f32], level: u32, x: u32, y:
 /// A decoded ray record.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RayRecord {
+    /// A ray was traced for this record ([`super::trace::info::VALID`]).
     pub valid: bool,
+    /// The ray hit a surface ([`super::trace::info::HIT`]).
     pub hit: bool,
     /// Hit pixel centre (screen units).
     pub hx: f32,
+    /// Hit pixel centre, y (screen units, row 0 at the top).
     pub hy: f32,
+    /// Solid-angle density the ray was sampled with (0 for mirror rays).
     pub pdf: f32,
+    /// Ray direction (view space, unit).
     pub dir: Vec3,
 }
 
@@ -249,8 +264,9 @@ pub fn hdrp_reproject_approx(
     store(out, ob, c * opacity, opacity);
 }
 
-/// Neighbourhood shapes of [`hdrp_resolve_neighborhood`].
+/// Neighbourhood shape of [`hdrp_resolve_neighborhood`]: the 3x3 block around the pixel.
 pub const NEIGHBORHOOD_3X3: u32 = 0;
+/// Neighbourhood shape: the pixel and its four edge neighbours.
 pub const NEIGHBORHOOD_CROSS5: u32 = 1;
 
 /// Accumulate one neighbour's ray into the ratio sums for surface `s`.

@@ -2,6 +2,13 @@
 //! preintegrated FG term (Stachowiak 2015, "ratio estimator ... x preintegrated FG"; Karis 2013
 //! split sum), FG = E''(n.v, r) = f0 (E - E') + f90 E' from the energy tables (`crate::energy`,
 //! Filament section 5.3.4.3), with the glTF metal-rough f0 = mix(0.04, base colour, metalness).
+//!
+//! ```
+//! use shader_core::ssr::specular::metal_rough_f0;
+//! // glTF: a dielectric reflects 4 % at normal incidence, a metal its base colour.
+//! assert_eq!(metal_rough_f0(0.9, 0.0), 0.04);
+//! assert_eq!(metal_rough_f0(0.9, 1.0), 0.9);
+//! ```
 
 use super::params::SsrParams;
 use super::trace::{load_surface, GBUF_STRIDE};

@@ -3,6 +3,23 @@
 //! sparse GGX-VNDF rays (1, 2 or 4 per 2x2 quad; Hi-Z for smooth, linear march for rough), the
 //! BRDF-weighted ratio-estimator resolve over a neighbourhood, filtered importance sampling from
 //! the colour pyramid, and temporal accumulation with history clamping.
+//!
+//! ```
+//! use shader_core::ssr::stochastic::{dispatch_record, groups_2d, tangent_frame};
+//! use shader_core::Vec3;
+//! // An orthonormal frame around the normal.
+//! let n = Vec3::new(0.0, 0.6, 0.8);
+//! let (t, b) = tangent_frame(n);
+//! for (u, v) in [(t, b), (t, n), (b, n)] {
+//!     assert!(u.dot(v).abs() < 1e-6);
+//! }
+//! assert!((t.length() - 1.0).abs() < 1e-6 && (b.length() - 1.0).abs() < 1e-6);
+//! // Dispatch sizes: at most 65535 groups in x, never 0 x 0.
+//! assert_eq!(groups_2d(0), (1, 0));
+//! assert_eq!(groups_2d(70_000), (65535, 2));
+//! // The dispatch record: [rays, groups in x, indirect (x, y, 1)].
+//! assert_eq!(dispatch_record(130, 64), [130, 3, 3, 1, 1]);
+//! ```
 
 use crate::ieee;
 use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
@@ -19,10 +36,13 @@ use crate::vector::Vec3;
 
 /// Tile edge in pixels.
 pub const TILE: u32 = 8;
-/// Tile classes.
+/// Tile class: no eligible pixel, nothing traced.
 pub const TILE_SKIP: u32 = 0;
+/// Tile class: every traced pixel uses the Hi-Z tracer (all smoother than the Hi-Z cut).
 pub const TILE_HIZ: u32 = 1;
+/// Tile class: every traced pixel uses the linear crossing tracer (all rougher than the cut).
 pub const TILE_LINEAR: u32 = 2;
+/// Tile class: both tracers occur in the tile.
 pub const TILE_MIXED: u32 = 3;
 /// Floats per tile record: class, rays, eligible pixels (bits), unused.
 pub const TILE_STRIDE: usize = 4;
@@ -142,7 +162,8 @@ pub const DISPATCH_WORDS: usize = 5;
 /// Word offset of the (x, y, z) indirect-dispatch arguments inside the dispatch record.
 pub const INDIRECT_OFFSET: usize = 2;
 
-/// 2D dispatch for `groups` workgroups: x <= 65535 groups, y rows of them (at least 1 x 1).
+/// 2D dispatch for `groups` workgroups: x <= 65535 groups (at least 1), y rows of them
+/// (ceil(groups / x); 0 rows for 0 groups).
 #[inline]
 pub fn groups_2d(groups: u32) -> (u32, u32) {
     let gx = if groups < 1 { 1 } else if groups > 65535 { 65535 } else { groups };
@@ -447,8 +468,8 @@ pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, mirror: bool, l: Vec3, pdf: 
 }
 
 /// Reflection hit distance of pixel (x, y): the [`ray_weight`]-weighted mean of |hit - pos| over
-/// the pixel's own hitting rays (the neighbours' rays may see other objects at other distances;
-/// measured on the `animated` scene, docs/ssr.md); 0 when none hits or the pixel traced no ray.
+/// the pixel's own hitting rays (the neighbours' rays may see other objects at other distances,
+/// which measurably blurred moving reflections); 0 when none hits or the pixel traced no ray.
 pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Surface, x: u32, y: u32) -> f32 {
     let spp = p.samples_per_pixel;
     let mirror = s.perceptual_roughness < MIRROR_ROUGHNESS;

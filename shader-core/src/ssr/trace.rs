@@ -8,6 +8,21 @@
 //! given a thickness: it occupies d in [d_s * thickness_scale + thickness_bias, d_s] (HDRP:
 //! `_SsrThicknessScale = 1 / (1 + thickness)`, bias 0 for an infinite far plane), so a point is
 //! "inside" a surface when it lies behind it by at most `thickness` times its linear depth.
+//!
+//! ```
+//! use shader_core::ssr::params::{idx, SsrParams};
+//! use shader_core::ssr::trace::{clampf, device_depth, floor_index, minf};
+//! let mut buf = vec![0.0f32; idx::LEN];
+//! buf[idx::NEAR] = 0.1;
+//! let p = SsrParams::load(&buf);
+//! // Reverse-Z: device depth 1 at the near plane, 0 for the sky (infinite linear depth).
+//! assert_eq!(device_depth(&p, 0.1), 1.0);
+//! assert_eq!(device_depth(&p, f32::INFINITY), 0.0);
+//! // The comparison helpers' NaN rules are fixed, so both backends pick the same operand.
+//! assert_eq!(minf(f32::NAN, 2.0), 2.0);
+//! assert_eq!(clampf(7.0, 0.0, 1.0), 1.0);
+//! assert_eq!((floor_index(3.7, 10), floor_index(-1.0, 10), floor_index(f32::NAN, 10), floor_index(99.0, 10)), (3, 0, 0, 10));
+//! ```
 
 use crate::ieee;
 use super::params::{mip_size, SsrParams, FLAG_BACKFACE_REJECT, FLAG_STOCHASTIC};
@@ -41,9 +56,11 @@ pub mod info {
 /// The outcome of one trace.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TraceHit {
+    /// True when the ray hit a surface (then `x`, `y`, `d` describe it).
     pub hit: bool,
     /// The pixel hit.
     pub x: u32,
+    /// The row of the pixel hit (row 0 at the top).
     pub y: u32,
     /// Device depth of the surface at the hit pixel.
     pub d: f32,
@@ -56,11 +73,13 @@ pub struct TraceHit {
 pub struct Surface {
     /// False for sky, invalid depth or normal, back-facing normals and pixels rougher than the cut-off.
     pub valid: bool,
+    /// View-space position of the pixel's surface.
     pub pos: Vec3,
     /// Unit normal (view space).
     pub n: Vec3,
     /// Unit direction to the eye (view space).
     pub v: Vec3,
+    /// Perceptual roughness of the surface, in [0, 1].
     pub perceptual_roughness: f32,
     /// Screen position of the pixel centre and its device depth.
     pub origin: Vec3,
