@@ -507,9 +507,10 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
             let t0 = std::time::Instant::now();
             let r = render_reference(s, &input.gbuffer, 1.0 - a.min_smoothness, a.reference_samples);
             eprintln!(
-                "  reference: {:.3} s ({} rays per glossy pixel, f64 ray caster on the CPU, not part of the frame)",
+                "  reference: {:.3} s ({} {} per glossy pixel, f64 ray caster on the CPU, not part of the frame)",
                 t0.elapsed().as_secs_f64(),
-                r.samples
+                r.samples,
+                if r.samples == 1 { "ray" } else { "rays" }
             );
             let e = errors(&result, &r, sky);
             if e.all.pixels == 0 {
