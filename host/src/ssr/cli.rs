@@ -8,10 +8,12 @@ use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode, 
 use super::reference::{render_reference, Reference};
 use super::scene::{scene, Scene};
 use super::sssr::{run_sssr, Reprojection, SssrSettings};
-use crate::io::{write_exr, write_heatmap_png, write_rgb_preview_png};
+use super::legend::{self, Legend};
+use crate::io::{write_exr, write_rgb_preview_png};
 use crate::cli_args::{f32_in, f32_in_half_open, pixels, u32_of};
 use crate::{Backend, DeviceChoice};
 use anyhow::{bail, Context, Result};
+use shader_core::ssr::stochastic::{TILE_HIZ, TILE_LINEAR, TILE_MIXED, TILE_SKIP};
 use shader_core::ssr::trace::{info, RAY_STRIDE};
 use std::path::{Path, PathBuf};
 
@@ -104,8 +106,9 @@ pub struct RunArgs {
     /// SSSR: disable the depth/normal history rejection (the neighbourhood clamp stays).
     #[arg(long)]
     pub no_history_rejection: bool,
-    /// Reference rays per glossy pixel (procedural scenes), at least 1.
-    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
+    /// Reference rays per glossy pixel (procedural scenes); 0 skips the ray-traced reference
+    /// (no error figures, no reference images).
+    #[arg(long, default_value_t = 64)]
     pub reference_samples: u32,
     /// Backend: auto, cpu or gpu (see `host --help`).
     #[arg(long, value_enum, default_value = "auto")]
@@ -207,6 +210,20 @@ pub fn parse_resolve(s: &str) -> Result<HdrpResolve> {
     })
 }
 
+/// The largest step count a ray of this run can record: the fixed top of the step-count scale.
+pub fn steps_limit(a: &RunArgs, width: usize, height: usize) -> Result<u32> {
+    Ok(match a.pipeline {
+        PipelineChoice::Hdrp => match parse_trace(&a.trace)? {
+            TraceMode::HiZ => a.max_steps,
+            TraceMode::Linear(n) => n,
+            // trace::trace_brute_force's cell limit.
+            TraceMode::BruteForce => 2 * (width + height) as u32 + 4,
+        },
+        PipelineChoice::Sssr if a.hiz_roughness_cut < 1.0 => a.max_steps.max(a.sssr().rough_linear_steps),
+        PipelineChoice::Sssr => a.max_steps,
+    })
+}
+
 /// The input of a run: a G-buffer and, for built-in scenes, the scene.
 pub struct Input {
     pub gbuffer: GBuffer,
@@ -287,8 +304,13 @@ pub fn hit_and_steps(result: &SsrResult) -> (Vec<f32>, Vec<f32>) {
     (hit, steps)
 }
 
+/// Top of the error image's scale (mean absolute RGB difference, linear radiance).
+pub const ERROR_SCALE: f32 = 0.5;
+
 /// Write the reflection EXR, previews and debug views; returns the files written.
-pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: Option<&Reference>, sky: [f32; 3]) -> Result<Vec<PathBuf>> {
+/// `steps_limit` is the top of the step-count scale (the tracer's iteration limit, see
+/// [`steps_limit`]); the debug PNGs carry a legend strip below the image.
+pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: Option<&Reference>, sky: [f32; 3], steps_limit: u32) -> Result<Vec<PathBuf>> {
     let (w, h) = (result.width, result.height);
     let n = w * h;
     let comp = composite(&result.reflection, sky);
@@ -322,15 +344,42 @@ pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: O
     files.push(p("composite"));
     write_rgb_preview_png(&p("scene"), w, h, &input.gbuffer.color, 0.0)?;
     files.push(p("scene"));
-    write_heatmap_png(&p("hit"), w, h, &hit, -1.0, 1.0)?;
+    let hit_px: Vec<[u8; 3]> = hit.iter().map(|&v| if v < 0.0 { legend::NO_VALUE } else { legend::ramp(v, 0.0, 1.0) }).collect();
+    let hit_legend = Legend {
+        title: "hit: fraction of the pixel's rays that hit on screen".into(),
+        bar: Some((0.0, 1.0, legend::ticks(0.0, 1.0, 4))),
+        swatches: vec![(legend::NO_VALUE, "no ray".into())],
+    };
+    legend::write_png(&p("hit"), w, h, &hit_px, &hit_legend)?;
     files.push(p("hit"));
-    let max_steps = steps.iter().cloned().fold(1.0f32, f32::max);
-    write_heatmap_png(&p("steps"), w, h, &steps, 0.0, max_steps)?;
+    let limit = steps_limit.max(1) as f32;
+    let steps_px: Vec<[u8; 3]> = steps
+        .iter()
+        .zip(&hit)
+        .map(|(&v, &hv)| if hv < 0.0 { legend::NO_VALUE } else { legend::ramp(v, 0.0, limit) })
+        .collect();
+    let steps_legend = Legend {
+        title: format!("steps: tracer iterations per ray (scale 0 .. the iteration limit {steps_limit})"),
+        bar: Some((0.0, limit, legend::ticks(0.0, limit, 4))),
+        swatches: vec![(legend::NO_VALUE, "no ray".into())],
+    };
+    legend::write_png(&p("steps"), w, h, &steps_px, &steps_legend)?;
     files.push(p("steps"));
     if let Some(t) = &result.tiles {
         let tw = w.div_ceil(8);
-        let img: Vec<f32> = (0..n).map(|i| t.classes[(i / w / 8) * tw + (i % w) / 8] as f32).collect();
-        write_heatmap_png(&p("tiles"), w, h, &img, 0.0, 3.0)?;
+        let class_colour = |c: u32| legend::ramp(c as f32, 0.0, 3.0);
+        let img: Vec<[u8; 3]> = (0..n).map(|i| class_colour(t.classes[(i / w / 8) * tw + (i % w) / 8])).collect();
+        let tiles_legend = Legend {
+            title: "tiles: class of each 8x8 tile".into(),
+            bar: None,
+            swatches: vec![
+                (class_colour(TILE_SKIP), "skipped".into()),
+                (class_colour(TILE_HIZ), "Hi-Z".into()),
+                (class_colour(TILE_LINEAR), "linear".into()),
+                (class_colour(TILE_MIXED), "mixed".into()),
+            ],
+        };
+        legend::write_png(&p("tiles"), w, h, &img, &tiles_legend)?;
         files.push(p("tiles"));
     }
     if let Some(r) = reference {
@@ -338,16 +387,21 @@ pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: O
         files.push(p("reference"));
         write_rgb_preview_png(&p("reference_onscreen"), w, h, &r.onscreen, 0.0)?;
         files.push(p("reference_onscreen"));
-        let err: Vec<f32> = (0..n)
+        let err: Vec<[u8; 3]> = (0..n)
             .map(|i| {
                 if !r.glossy[i] {
-                    return 0.0;
+                    return legend::NO_VALUE;
                 }
                 let d: f32 = (0..3).map(|k| (comp[3 * i + k] - r.onscreen[3 * i + k]).abs()).sum();
-                d / 3.0
+                legend::ramp(d / 3.0, 0.0, ERROR_SCALE)
             })
             .collect();
-        write_heatmap_png(&p("error"), w, h, &err, 0.0, 0.5)?;
+        let err_legend = Legend {
+            title: "error: mean |composite - on-screen reference| over RGB (linear)".into(),
+            bar: Some((0.0, ERROR_SCALE, legend::ticks(0.0, ERROR_SCALE, 5))),
+            swatches: vec![(legend::NO_VALUE, "not glossy".into())],
+        };
+        legend::write_png(&p("error"), w, h, &err, &err_legend)?;
         files.push(p("error"));
     }
     Ok(files)
@@ -377,6 +431,38 @@ fn write_specular(out: &Path, result: &SsrResult, specular: &[f32], reference: O
     Ok(vec![exr, png])
 }
 
+/// The lit frame: scene colour + specular (reflection x preintegrated FG), RGB per pixel. The
+/// colour is the current frame's (built-in scenes render it; an EXR G-buffer's `color` is used
+/// as given, the previous frame's for a moving camera).
+pub fn lit_frame(colour: &[f32], specular: &[f32]) -> Vec<f32> {
+    colour.chunks_exact(3).zip(specular.chunks_exact(4)).flat_map(|(c, s)| [c[0] + s[0], c[1] + s[1], c[2] + s[2]]).collect()
+}
+
+/// The lit frame EXR (`<stem>.lit.exr`: `R G B`, and `reference.R/G/B` = the same scene colour
+/// + the reference's specular integral over all geometry) and its PNGs (`.lit.png`,
+/// `.lit_reference.png`).
+fn write_lit(out: &Path, w: usize, h: usize, lit: &[f32], lit_reference: Option<&[f32]>) -> Result<Vec<PathBuf>> {
+    let n = w * h;
+    let ch = |v: &[f32], k: usize| -> Vec<f32> { (0..n).map(|i| v[3 * i + k]).collect() };
+    let mut chans: Vec<(String, Vec<f32>)> = ["R", "G", "B"].iter().enumerate().map(|(k, c)| (c.to_string(), ch(lit, k))).collect();
+    if let Some(r) = lit_reference {
+        chans.extend(["R", "G", "B"].iter().enumerate().map(|(k, c)| (format!("reference.{c}"), ch(r, k))));
+    }
+    let refs: Vec<(&str, &[f32])> = chans.iter().map(|(a, b)| (a.as_str(), b.as_slice())).collect();
+    let stem = out.with_extension("");
+    let exr = PathBuf::from(format!("{}.lit.exr", stem.display()));
+    write_exr(&exr, w, h, &refs)?;
+    let png = PathBuf::from(format!("{}.lit.png", stem.display()));
+    write_rgb_preview_png(&png, w, h, lit, 0.0)?;
+    let mut files = vec![exr, png];
+    if let Some(r) = lit_reference {
+        let png = PathBuf::from(format!("{}.lit_reference.png", stem.display()));
+        write_rgb_preview_png(&png, w, h, r, 0.0)?;
+        files.push(png);
+    }
+    Ok(files)
+}
+
 /// `host ssr`.
 pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()> {
     crate::io::prepare_output(output)?;
@@ -388,6 +474,8 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
         input.gbuffer.save(p)?;
         eprintln!("wrote G-buffer {} (+ {})", p.display(), super::gbuffer::camera_path(p).display());
     }
+    let (w, h) = (input.gbuffer.width, input.gbuffer.height);
+    let limit = steps_limit(a, w, h)?;
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
     let tables = crate::energy::load_or_precompute(&backend, &a.lut)?;
@@ -402,6 +490,8 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
     for t in &result.times {
         eprintln!("  {:<16} {:>9.3} ms ({})", t.name, t.seconds * 1e3, t.source);
     }
+    let frame_total: f64 = result.times.iter().map(|t| t.seconds).sum();
+    eprintln!("  {:<16} {:>9.3} ms (sum of the {} passes above, specular included)", "frame total", frame_total * 1e3, result.times.len());
     if let Some(t) = &result.tiles {
         eprintln!(
             "  tiles: {} of {} skipped, {} rays for {} eligible pixels",
@@ -409,8 +499,19 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
         );
     }
     let reference = match &input.scene {
+        Some(_) if a.reference_samples == 0 => {
+            eprintln!("  reference: skipped (--reference-samples 0): no error figures, no reference images or channels");
+            None
+        }
         Some(s) => {
+            let t0 = std::time::Instant::now();
             let r = render_reference(s, &input.gbuffer, 1.0 - a.min_smoothness, a.reference_samples);
+            eprintln!(
+                "  reference: {:.3} s ({} {} per glossy pixel, f64 ray caster on the CPU, not part of the frame)",
+                t0.elapsed().as_secs_f64(),
+                r.samples,
+                if r.samples == 1 { "ray" } else { "rays" }
+            );
             let e = errors(&result, &r, sky);
             if e.all.pixels == 0 {
                 eprintln!("  error vs reference: n/a: no glossy pixels: nothing measured (see --min-smoothness, --frame)");
@@ -436,10 +537,24 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
             }
             Some(r)
         }
-        None => None,
+        None => {
+            eprintln!("  reference: none (G-buffer input: only built-in scenes have one)");
+            None
+        }
     };
-    let mut files = write_outputs(output, &input, &result, reference.as_ref(), sky).context("writing outputs")?;
+    // The lit frame, with the current frame's colour.
+    let colour = match &input.scene {
+        Some(s) if input.gbuffer.previous_camera != input.gbuffer.camera => s.render_color(w, h, &input.gbuffer.camera),
+        _ => input.gbuffer.color.clone(),
+    };
+    let lit = lit_frame(&colour, &specular);
+    let lit_reference = reference.as_ref().map(|r| {
+        let spec: Vec<f32> = r.specular_all.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 0.0]).collect();
+        lit_frame(&colour, &spec)
+    });
+    let mut files = write_outputs(output, &input, &result, reference.as_ref(), sky, limit).context("writing outputs")?;
     files.extend(write_specular(output, &result, &specular, reference.as_ref()).context("writing the specular output")?);
+    files.extend(write_lit(output, w, h, &lit, lit_reference.as_deref()).context("writing the lit frame")?);
     for f in files {
         eprintln!("wrote {}", f.display());
     }

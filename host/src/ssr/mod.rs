@@ -6,6 +6,7 @@ pub mod camera;
 pub mod bench;
 pub mod cli;
 pub mod gbuffer;
+pub mod legend;
 pub mod metrics;
 pub mod pipeline;
 pub mod reference;

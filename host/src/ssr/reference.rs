@@ -22,7 +22,8 @@ use rayon::prelude::*;
 pub struct Reference {
     pub width: usize,
     pub height: usize,
-    /// RGB per pixel, all geometry.
+    /// RGB per pixel, all geometry (pixels outside `glossy`: the sky, the fallback SSR's
+    /// composite shows there too).
     pub all: Vec<f32>,
     /// RGB per pixel, on-screen geometry only.
     pub onscreen: Vec<f32>,
@@ -83,22 +84,27 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
     let eye = cam.eye();
     let strata = (samples as f64).sqrt().round().max(1.0) as u32;
     let sky = [scene.sky[0] as f64, scene.sky[1] as f64, scene.sky[2] as f64];
+    let sky_f32 = scene.sky;
     let rows: Vec<([f32; 3], [f32; 3], f32, bool, [f32; 2], [f32; 3], [f32; 3])> = (0..w * h)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % w, i / w);
             let d = cam.ray_dir(w, h, x as f64 + 0.5, y as f64 + 0.5);
-            let Some(hit) = scene.cast(eye, d, 1e-9) else { return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2], [0.0; 3], [0.0; 3]) };
+            // Pixels that trace no reflection (sky, rougher than the cut-off, back-facing) show
+            // the fallback environment, as SSR's composite (reflection over the sky) does there;
+            // their specular integral is 0, as the specular pass's FG is.
+            let none = ([sky_f32[0], sky_f32[1], sky_f32[2]], [sky_f32[0], sky_f32[1], sky_f32[2]], 0.0, false, [f32::NAN; 2], [0.0; 3], [0.0; 3]);
+            let Some(hit) = scene.cast(eye, d, 1e-9) else { return none };
             let m = &scene.objects[hit.object].material;
             let rough = m.roughness_at(hit.p);
             if rough > max_roughness {
-                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2], [0.0; 3], [0.0; 3]);
+                return none;
             }
             let n = hit.n;
             let v = scale(d, -1.0);
             let nv = dot(n, v);
             if nv <= 0.0 {
-                return ([0.0; 3], [0.0; 3], 0.0, false, [f32::NAN; 2], [0.0; 3], [0.0; 3]);
+                return none;
             }
             let alpha = f64::from(rough) * f64::from(rough);
             let (t, b) = basis(n);

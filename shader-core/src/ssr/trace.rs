@@ -263,8 +263,9 @@ fn nudge(x: f32, sign: f32) -> f32 {
 use spirv_std::num_traits::Float;
 
 /// HDRP's hierarchical ray march through the min-linear-depth pyramid (`ScreenSpaceReflections.compute`,
-/// `ScreenSpaceReflectionsTracing`): step to the cell wall at coarse mips while the ray stays in
-/// front of the cell's closest surface, descend when it reaches it; a hit is the first mip-0 cell
+/// `ScreenSpaceReflectionsTracing`): step to the cell wall and climb while the ray stays in
+/// front of the cell's closest surface (in either direction of depth; HDRP always descends for
+/// rays towards the eye), descend where it reaches it or is behind it; a hit is the first mip-0 cell
 /// whose surface the ray crosses, or whose thickness slab it is inside. A ray that was behind a
 /// surface's slab at mip 0 and then lands inside a slab is a miss (HDRP's rule), and so is a hit
 /// on the sky.
@@ -274,7 +275,6 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
     let step_y: u32 = if rcp.y >= 0.0 { 1 } else { 0 };
     let sign_x: f32 = if rcp.x >= 0.0 { 1.0 } else { -1.0 };
     let sign_y: f32 = if rcp.y >= 0.0 { 1.0 } else { -1.0 };
-    let towards_eye = rcp.z >= 0.0;
     let t_max = ray_t_max(p, o, rcp);
     let mut t = ray_t_start(rcp);
     let mut mip: u32 = 0;
@@ -307,15 +307,25 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
         miss = below_mip0 && inside_floor;
         hit = mip == 0 && (hit_floor || inside_floor);
         below_mip0 = mip == 0 && below_floor;
-        t = if hit_floor {
-            dist_floor
-        } else if mip != 0 && below_floor {
+        // At a coarse mip, a ray behind the cell's closest surface stays where it is and
+        // descends. (A ray towards the eye that reaches that surface inside the cell is behind it
+        // first, and may cross a farther finer-mip surface before reaching it: advancing it to
+        // the coarse surface, as HDRP does, would skip that hit. For rays away from the eye the
+        // two conditions exclude each other, so this is HDRP's order.)
+        t = if mip != 0 && below_floor {
             t
+        } else if hit_floor {
+            dist_floor
         } else {
             dist_wall
         };
         pos.z = floor_d;
-        if hit_floor || below_floor || towards_eye {
+        // Descend only where the ray reaches the cell's closest surface (or is behind it); a ray
+        // in front of it that leaves the cell without reaching it cannot hit anything inside the
+        // cell, whatever its direction, so it climbs. HDRP also descends for every ray towards
+        // the eye (`rayTowardsEye`): such rays then march one texel per iteration and run out of
+        // iterations at 1080p (tests/tests/ssr_1080p.rs).
+        if hit_floor || below_floor {
             mip = if mip > 0 { mip - 1 } else { 0 };
         } else {
             mip = if mip < max_mip { mip + 1 } else { max_mip };
