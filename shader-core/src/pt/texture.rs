@@ -103,9 +103,12 @@ fn channel(sc: &[u32], table: usize, v: u32, k: u32, srgb: bool) -> f32 {
     if srgb {
         float(sc, table + byte as usize)
     } else {
-        (byte as f32) * (1.0 / 255.0)
+        (byte as f32) * INV_255
     }
 }
+
+/// 1 / 255 rounded once by the compiler (a constant, so no division reaches the SPIR-V).
+const INV_255: f32 = 1.0 / 255.0;
 
 /// Texel (x, y) of texture `t`, decoded (`srgb`: colour channels through the sRGB table).
 #[inline]
