@@ -26,6 +26,7 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// A direction or point in the local shading frame (normal = +z) or in world space.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
 pub struct Vec3 {
     /// x component (tangent direction in the local shading frame).
     pub x: f32,

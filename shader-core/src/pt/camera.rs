@@ -13,8 +13,11 @@ pub const PERSPECTIVE: u32 = 0;
 /// Orthographic projection.
 pub const ORTHOGRAPHIC: u32 = 1;
 
-/// A camera (unit, orthonormal `right`, `up`, `forward`).
+/// A camera (unit, orthonormal `right`, `up`, `forward`); a `#[repr(C)]` record of 4-byte
+/// fields, part of [`super::integrator::RenderParams`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
 pub struct Camera {
     /// [`PERSPECTIVE`] or [`ORTHOGRAPHIC`].
     pub kind: u32,

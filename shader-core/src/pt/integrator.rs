@@ -34,8 +34,12 @@ pub const STRATEGY_LIGHT: u32 = 2;
 /// Shadow rays towards area lights stop this fraction short of the sampled point.
 pub const SHADOW_EPSILON: f32 = 1e-3;
 
-/// What one pixel is rendered with.
+/// What one pixel is rendered with: a `#[repr(C)]` record of 4-byte fields that the host
+/// uploads as it is (inside `shader_kernels::render::RenderArgs`), so host and kernel share one
+/// definition.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
 pub struct RenderParams {
     /// Image width in pixels.
     pub width: u32,
