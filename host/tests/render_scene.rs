@@ -486,6 +486,17 @@ fn feature_scene_loads_without_warnings_and_flattens_as_written() {
     let below = |x: f32, y: f32| bvh::closest_hit(w, &Ray::new(Vec3::new(x, y, 0.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY);
     assert!(below(0.5, 0.5).is_hit(), "uv (0.75, 0.25): kept");
     assert!(!below(0.5, -0.5).is_hit(), "uv (0.75, 0.75): cut out");
+
+    // ...and renders through its own camera and lights: every pixel finite, most of them lit.
+    let black = host::render::environment::build(&host::render::environment::EnvSpec::Black, 1.0, 0.0).unwrap();
+    let lut = vec![0.0f32; shader_core::energy::LUT_HEADER];
+    let camera = host::render::CameraSpec::from_desc(s.camera("closeup").unwrap()).camera(16, 16).unwrap();
+    let p = shader_core::pt::integrator::RenderParams { width: 16, height: 16, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: 0, compensation: shader_core::energy::COMP_NONE, clamp: 0.0, p_env: 0.0, camera };
+    let inputs = host::render::RenderInputs { scene: w, env: &black.words, lut: &lut };
+    let (img, _) = host::render::render(&host::Backend::Cpu, &inputs, &p, 4, 4, |_| {}).unwrap();
+    assert!(img.color.iter().all(|v| v.is_finite()), "non-finite pixels");
+    let lit = img.color.chunks_exact(3).filter(|c| c[0] + c[1] + c[2] > 0.0).count();
+    assert!(lit > 128, "only {lit} of 256 pixels lit");
 }
 
 #[test]
