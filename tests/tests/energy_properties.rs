@@ -203,10 +203,18 @@ fn bad_arguments_are_rejected() {
     assert!(energy::furnace_grid(&Backend::Cpu, &lut, &cfg, 4, 4).is_err());
     assert!(energy::furnace_grid(&Backend::Cpu, &lut, &FurnaceConfig { samples: 0, metallic: 1.0, ..cfg }, 4, 4).is_err());
     assert!(Tables::from_words(&lut).is_err());
-    // LUT lookups: NaN in, NaN out; out-of-range coordinates clamp to the edge cells.
+    // LUT lookups: NaN in, NaN out; out-of-range coordinates hold the value at the edge of the
+    // domain (mu, r in [0, 1]; the outer half cells extrapolate, see energy::cell_taps).
     assert!(ce::lut_e(&lut, f32::NAN, 0.5).is_nan());
     assert_eq!(ce::lut_e(&lut, -3.0, 0.5), ce::lut_e(&lut, 0.0, 0.5));
-    assert_eq!(ce::lut_e_avg(&lut, 7.0), *tables().lut_consistent_e_avg().last().unwrap());
+    assert_eq!(ce::lut_e(&lut, 3.0, 0.5), ce::lut_e(&lut, 1.0, 0.5));
+    assert_eq!(ce::lut_e(&lut, 0.5, 7.0), ce::lut_e(&lut, 0.5, 1.0));
+    assert_eq!(ce::lut_e_avg(&lut, 7.0), ce::lut_e_avg(&lut, 1.0));
+    assert_eq!(ce::lut_e_avg(&lut, -7.0), ce::lut_e_avg(&lut, 0.0));
+    // At a cell centre the lookup is the stored value.
+    let (n_mu, n_r, _) = ce::lut_dims(&lut);
+    let (at, stored) = (ce::lut_e(&lut, ce::cell_center(5, n_mu), ce::cell_center(7, n_r)), tables().e[(7 * n_mu + 5) as usize]);
+    assert!((at - stored).abs() <= 1e-6 * stored.abs(), "lookup at a cell centre {at}, stored {stored}");
     // The binary form round-trips.
     let dir = std::env::temp_dir().join(format!("energy_lut_{}", std::process::id()));
     let path = dir.join("t.bin");

@@ -8,6 +8,19 @@
 //! are visited in a fixed order (no front-to-back sorting), so the work per ray depends only on
 //! the ray and the scene: the same on both backends. Hits on triangles whose glTF `MASK`
 //! material rejects them ([`super::surface::alpha_passes`]) are skipped.
+//!
+//! ```
+//! use shader_core::pt::bvh::{closest_hit, occluded};
+//! use shader_core::pt::ray::Ray;
+//! use shader_core::pt::scene::{HEADER_WORDS, MAGIC, NONE};
+//! use shader_core::Vec3;
+//! // A scene without nodes: nothing is ever hit.
+//! let mut empty = vec![0u32; HEADER_WORDS];
+//! empty[0] = MAGIC;
+//! let r = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0));
+//! assert_eq!(closest_hit(&empty, &r, f32::INFINITY).tri, NONE);
+//! assert!(!occluded(&empty, &r, f32::INFINITY));
+//! ```
 
 use super::ray::Ray;
 use super::scene::{self, header, leaf_range, vec3, word, H_NODES, NONE, N_LEAF, N_SKIP};

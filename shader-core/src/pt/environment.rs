@@ -11,6 +11,23 @@
 //! Directions: y is up; theta = acos(y) from +y, phi = atan2(x, -z), so the map's centre column
 //! (u = 1/2) is the -z direction and u grows towards +x. The map is turned about +y by the
 //! rotation whose cos / sin the header holds.
+//!
+//! ```
+//! use shader_core::pt::environment::{direction_to_uv, pdf, radiance, sample, E_COLOR, E_KIND, ENV_HEADER, KIND_UNIFORM};
+//! use shader_core::Vec3;
+//! // -z is the centre of the map; +y its top row.
+//! let (u, v, _) = direction_to_uv(Vec3::new(0.0, 0.0, -1.0));
+//! assert_eq!((u, v), (0.5, 0.5));
+//! // A uniform environment: the same radiance everywhere, sampled uniformly over the sphere.
+//! let mut env = vec![0.0f32; ENV_HEADER];
+//! env[E_KIND] = KIND_UNIFORM as f32;
+//! env[E_COLOR..E_COLOR + 3].copy_from_slice(&[0.5, 1.0, 2.0]);
+//! let s = sample(&env, 0.3, 0.7);
+//! assert_eq!(s.li, Vec3::new(0.5, 1.0, 2.0));
+//! assert_eq!(s.pdf, pdf(&env, s.wi));
+//! assert!((s.pdf - 1.0 / (4.0 * std::f32::consts::PI)).abs() < 1e-7);
+//! assert_eq!(radiance(&env, Vec3::new(0.0, 1.0, 0.0)), s.li);
+//! ```
 
 use crate::buffer::load;
 use crate::ieee;

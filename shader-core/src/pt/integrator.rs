@@ -9,6 +9,17 @@
 //! hit, then contribute nothing); [`STRATEGY_LIGHT`] only samples lights at non-Dirac vertices
 //! (emitters seen through Dirac lobes, e.g. in a mirror, are still counted). All three converge
 //! to the same image on scenes without punctual lights.
+//!
+//! ```
+//! use shader_core::pt::integrator::{power_heuristic, sample_rng};
+//! // The power heuristic weights of two strategies sum to 1; equal densities split evenly.
+//! assert_eq!(power_heuristic(2.0, 2.0), 0.5);
+//! assert!((power_heuristic(3.0, 1.0) + power_heuristic(1.0, 3.0) - 1.0).abs() < 1e-7);
+//! // A sample's random numbers depend only on (seed, pixel, sample index).
+//! let (mut a, mut b) = (sample_rng(7, 42, 3), sample_rng(7, 42, 3));
+//! assert_eq!(a.next_u32(), b.next_u32());
+//! assert_ne!(sample_rng(7, 42, 4).next_u32(), sample_rng(7, 42, 3).next_u32());
+//! ```
 
 use super::bvh;
 use super::camera::Camera;

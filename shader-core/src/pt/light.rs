@@ -3,6 +3,16 @@
 //! picked in proportion to its power from the scene's light CDF (PBRT-v4 section 12.6
 //! "Light sampling", `PowerLightSampler`); triangles are sampled uniformly by area and converted
 //! to solid angle (PBRT-v4 section 12.3, eq. 12.8 / `Triangle::Sample` with 4.7's area measure).
+//!
+//! ```
+//! use shader_core::pt::light::{select, spot_falloff};
+//! use shader_core::pt::scene::HEADER_WORDS;
+//! // Full inside the inner cone, zero outside the outer one, (t^2) between.
+//! assert_eq!(spot_falloff(0.95, 0.9, 0.8), 1.0);
+//! assert_eq!(spot_falloff(0.75, 0.9, 0.8), 0.0);
+//! // A scene without lights selects nothing (probability 0).
+//! assert_eq!(select(&vec![0u32; HEADER_WORDS], 0.5), (0, 0.0));
+//! ```
 
 use super::scene::{self, float, vec3, word, H_LIGHTS, H_LIGHT_CDF_OFF, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE, L_AREA, L_COS_INNER, L_COS_OUTER, L_DIRECTION, L_INTENSITY, L_POSITION, L_RANGE, L_TRIANGLE, L_TYPE};
 use super::surface;

@@ -19,6 +19,21 @@
 //! part with probability t, else the glTF BxDF's own mixture (VNDF + cosine), whose cosine lobe
 //! also covers the Kulla-Conty lobe; `sample` returns the full mixture f and pdf for non-Dirac
 //! samples, so it can be weighted by MIS like any other direction.
+//!
+//! ```
+//! use shader_core::bxdf::{BxDF, GltfMetalRoughBxDF, MODE_RADIANCE};
+//! use shader_core::energy::COMP_NONE;
+//! use shader_core::pt::material::Material;
+//! use shader_core::pt::surface::MaterialPoint;
+//! use shader_core::Vec3;
+//! // Without compensation or transmission the material is the glTF BxDF itself, to the bit (the
+//! // energy tables are not read, so none are passed).
+//! let mp = MaterialPoint { base: Vec3::new(0.8, 0.5, 0.2), metallic: 0.3, roughness: 0.6, ior: 1.5, ..Default::default() };
+//! let (wo, wi) = (Vec3::new(0.3, 0.1, 0.95).normalize(), Vec3::new(-0.5, 0.2, 0.84).normalize());
+//! let m = Material::new(&mp, wo, &[], COMP_NONE);
+//! let g = GltfMetalRoughBxDF::new(mp.base, mp.metallic, mp.roughness);
+//! assert_eq!(m.f(wo, wi, &[]), g.f(wo, wi, MODE_RADIANCE));
+//! ```
 
 use crate::bxdf::{BxDF, DielectricBxDF, GltfMetalRoughBxDF, TrowbridgeReitz, MODE_RADIANCE, SAMPLE_ALL, SPECULAR};
 use crate::bxdf::{same_hemisphere, splat, BSDFSample};

@@ -1,4 +1,15 @@
 //! A ray o + t d (PBRT-v4 section 3.1) and the offset that keeps a spawned ray off its own surface.
+//!
+//! ```
+//! use shader_core::pt::ray::{offset_origin, Ray};
+//! use shader_core::Vec3;
+//! let r = Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, -2.0));
+//! assert_eq!(r.at(0.5), Vec3::new(1.0, 2.0, 2.0)); // t is in units of |d|
+//! // A ray leaving towards -n starts below the surface, one towards +n above it.
+//! let n = Vec3::new(0.0, 1.0, 0.0);
+//! assert!(offset_origin(Vec3::ZERO, n, -n).y < 0.0);
+//! assert!(offset_origin(Vec3::ZERO, n, n).y > 0.0);
+//! ```
 
 use crate::vector::Vec3;
 

@@ -18,6 +18,13 @@
 //! | lights | [`LIGHT_WORDS`] | see the `L_*` offsets |
 //! | light CDF | 1 | inclusive CDF (f32) of the lights' selection probabilities, last = 1 |
 //! | sRGB table | 1 | 256 floats: the linear value of each 8-bit sRGB code |
+//!
+//! ```
+//! use shader_core::pt::scene::{leaf_range, leaf_word};
+//! // A leaf's word packs its first triangle and count; an inner node's word is 0.
+//! assert_eq!(leaf_range(leaf_word(1234, 4)), (1234, 4));
+//! assert_eq!(leaf_range(0).1, 0);
+//! ```
 
 use crate::buffer::load_u32;
 use crate::vector::Vec3;

@@ -6,6 +6,16 @@
 //! The shading normal is the interpolated vertex normal (the geometric normal where the mesh has
 //! none), perturbed by the normal texture where the mesh has tangents, and turned to the
 //! geometric normal's side.
+//!
+//! ```
+//! use shader_core::pt::surface::{interpolate, orthonormal_tangent};
+//! use shader_core::Vec3;
+//! let (a, b, c) = (Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+//! // (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
+//! assert_eq!(interpolate(a, b, c, 0.25, 0.5), Vec3::new(0.25, 0.5, 0.0));
+//! let n = Vec3::new(0.0, 0.6, 0.8);
+//! assert!(orthonormal_tangent(n).dot(n).abs() < 1e-7);
+//! ```
 
 use super::scene::{self, float, vec3, word, ALPHA_MASK, M_ALPHA_CUTOFF, M_ALPHA_MODE, M_BASE, M_BASE_TEX, M_DOUBLE_SIDED, M_EMISSIVE, M_EMISSIVE_TEX, M_IOR, M_METALLIC, M_MR_TEX, M_NORMAL_SCALE, M_NORMAL_TEX, M_ROUGHNESS, M_TRANSMISSION, M_TRANSMISSION_TEX, NONE, SF_NORMALS, SF_TANGENTS, SF_UVS, S_FLAGS, S_LIGHT, S_MATERIAL, S_NORMALS, S_TANGENTS, S_UVS};
 use super::texture::{self, Rgba};

@@ -14,6 +14,18 @@
 //! therefore hits every triangle sharing it (the closest-hit search keeps one of them), never
 //! none. A triangle whose edge functions sum to 0 (degenerate, or seen exactly edge-on) is never
 //! hit.
+//!
+//! ```
+//! use shader_core::pt::triangle::{intersect, precompute};
+//! use shader_core::Vec3;
+//! let (v0, v1, v2) = (Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+//! let (o, d) = (Vec3::new(0.25, 0.25, 2.0), Vec3::new(0.0, 0.0, -1.0));
+//! let h = intersect(o, &precompute(d), v0, v1, v2, f32::INFINITY);
+//! assert!(h.hit);
+//! assert_eq!((h.t, h.b1, h.b2), (2.0, 0.25, 0.25)); // p = (1 - b1 - b2) v0 + b1 v1 + b2 v2
+//! // Only hits with t < t_max count.
+//! assert!(!intersect(o, &precompute(d), v0, v1, v2, 1.5).hit);
+//! ```
 
 use crate::ieee;
 use crate::vector::Vec3;
