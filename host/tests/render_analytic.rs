@@ -327,33 +327,31 @@ fn environment_map_density_is_consistent_and_normalized() {
         assert!((l.x - s.li.x).abs() <= 1e-6 * l.x.abs().max(1.0));
     }
     // The density integrates to 1 over the sphere (midpoint rule on a fine (theta, phi) grid).
-    let (nt, np) = (400, 800);
-    let mut integral = 0.0f64;
-    for i in 0..nt {
-        let th = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
-        for j in 0..np {
-            let ph = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
-            let d = Vec3::new((th.sin() * ph.cos()) as f32, th.cos() as f32, (th.sin() * ph.sin()) as f32);
-            integral += shader_core::pt::environment::pdf(words, d) as f64 * th.sin() * (std::f64::consts::PI / nt as f64) * (2.0 * std::f64::consts::PI / np as f64);
-        }
-    }
+    let pdf = |d: Vec3| shader_core::pt::environment::pdf(words, d) as f64;
+    let integral = sphere_integral(|d| pdf(d));
     assert!((integral - 1.0).abs() < 5e-3, "density integrates to {integral}");
     // Samples land in proportion to the density: the hot spot's share of samples against its
     // share of the integral.
     let hot_dir = |d: Vec3| shader_core::pt::environment::radiance(words, d).x > 10.0;
     let n = 200_000;
     let hits = (0..n).filter(|_| hot_dir(shader_core::pt::environment::sample(words, rng.next_f32(), rng.next_f32()).wi)).count() as f64 / n as f64;
-    let mut share = 0.0f64;
-    for i in 0..nt {
-        let th = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
-        for j in 0..np {
-            let ph = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
-            let d = Vec3::new((th.sin() * ph.cos()) as f32, th.cos() as f32, (th.sin() * ph.sin()) as f32);
-            if hot_dir(d) {
-                share += shader_core::pt::environment::pdf(words, d) as f64 * th.sin() * (std::f64::consts::PI / nt as f64) * (2.0 * std::f64::consts::PI / np as f64);
-            }
-        }
-    }
+    let share = sphere_integral(|d| if hot_dir(d) { pdf(d) } else { 0.0 });
     assert!(share > 0.3, "the hot spot should hold most of the density: {share}");
     assert!((hits - share).abs() < 0.01, "hot spot: {hits} of the samples, {share} of the density");
+}
+
+/// The integral of `f` over the unit sphere by the midpoint rule on a 400 x 800 (theta, phi) grid.
+fn sphere_integral(f: impl Fn(Vec3) -> f64) -> f64 {
+    let (nt, np) = (400, 800);
+    let (dt, dp) = (std::f64::consts::PI / nt as f64, 2.0 * std::f64::consts::PI / np as f64);
+    let mut sum = 0.0f64;
+    for i in 0..nt {
+        let th = (i as f64 + 0.5) * dt;
+        for j in 0..np {
+            let ph = (j as f64 + 0.5) * dp;
+            let d = Vec3::new((th.sin() * ph.cos()) as f32, th.cos() as f32, (th.sin() * ph.sin()) as f32);
+            sum += f(d) * th.sin() * dt * dp;
+        }
+    }
+    sum
 }
