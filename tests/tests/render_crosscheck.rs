@@ -19,7 +19,7 @@ fn lut() -> Vec<f32> {
 fn params(scene: &Scene, w: u32, h: u32, strategy: u32, compensation: u32, p_env: f32) -> RenderParams {
     let cam = match scene.cameras.first() {
         Some(c) => CameraSpec::from_desc(c),
-        None => CameraSpec::framing(scene.bounds.min, scene.bounds.max),
+        None => CameraSpec::framing(&scene.bounds),
     };
     RenderParams {
         width: w,

@@ -196,23 +196,24 @@ impl RenderCommand {
     }
 }
 
-/// The camera `--camera` names (index or name), else the scene's first, else a framing.
+/// The camera `--camera` names (name or index, [`Scene::camera`]), else the scene's first, else
+/// a framing.
 pub fn pick_camera(scene: &Scene, want: Option<&str>) -> Result<(CameraSpec, String)> {
     let cams = &scene.cameras;
+    let label = |c: &super::scene::CameraDesc| {
+        let i = cams.iter().position(|x| std::ptr::eq(x, c)).unwrap_or(0);
+        format!("camera {i} {:?}", c.name)
+    };
     if let Some(w) = want {
-        let found = match w.parse::<usize>() {
-            Ok(i) => cams.get(i).map(|c| (i, c)),
-            Err(_) => cams.iter().enumerate().find(|(_, c)| c.name == w),
-        };
-        let Some((i, c)) = found else {
+        let Some(c) = scene.camera(w) else {
             let names: Vec<String> = cams.iter().enumerate().map(|(i, c)| format!("{i} {:?}", c.name)).collect();
             bail!("--camera {w:?}: no such camera; the scene has {}", if names.is_empty() { "none".to_string() } else { names.join(", ") });
         };
-        return Ok((CameraSpec::from_desc(c), format!("camera {i} {:?}", c.name)));
+        return Ok((CameraSpec::from_desc(c), label(c)));
     }
     match cams.first() {
-        Some(c) => Ok((CameraSpec::from_desc(c), format!("camera 0 {:?}", c.name))),
-        None => Ok((CameraSpec::framing(scene.bounds.min, scene.bounds.max), "framing camera (the scene has none)".into())),
+        Some(c) => Ok((CameraSpec::from_desc(c), label(c))),
+        None => Ok((CameraSpec::framing(&scene.bounds), "framing camera (the scene has none)".into())),
     }
 }
 

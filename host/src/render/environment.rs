@@ -2,6 +2,7 @@
 //! equirectangular EXR / Radiance HDR map with its importance-sampling tables (density and CDFs
 //! over luminance x sin(theta)), built here once per render.
 
+use super::scene::luminance;
 use anyhow::{bail, Context, Result};
 use shader_core::pt::environment::{ENV_HEADER, E_COLOR, E_HEIGHT, E_KIND, E_ROT_COS, E_ROT_SIN, E_WIDTH, KIND_BLACK, KIND_MAP, KIND_UNIFORM};
 use std::path::{Path, PathBuf};
@@ -77,10 +78,6 @@ fn header(kind: u32, rgb: [f32; 3], w: u32, h: u32, rotation_deg: f32) -> Vec<f3
     v
 }
 
-fn luminance(r: f32, g: f32, b: f32) -> f64 {
-    0.2126 * r as f64 + 0.7152 * g as f64 + 0.0722 * b as f64
-}
-
 /// Build the environment of `spec`, its radiance multiplied by `scale`, the map turned by
 /// `rotation_deg` about +y.
 pub fn build(spec: &EnvSpec, scale: f32, rotation_deg: f32) -> Result<Environment> {
@@ -100,7 +97,7 @@ pub fn build(spec: &EnvSpec, scale: f32, rotation_deg: f32) -> Result<Environmen
             Ok(Environment {
                 words: header(KIND_UNIFORM, rgb, 0, 0, 0.0),
                 label: format!("uniform radiance ({}, {}, {})", rgb[0], rgb[1], rgb[2]),
-                mean_luminance: luminance(rgb[0], rgb[1], rgb[2]),
+                mean_luminance: luminance(rgb),
             })
         }
         EnvSpec::Map(path) => {
@@ -151,7 +148,7 @@ pub fn from_map(w: u32, h: u32, rgb: &[f32], scale: f32, rotation_deg: f32) -> R
         let s = (std::f64::consts::PI * (i as f64 + 0.5) / hu as f64).sin();
         for j in 0..wu {
             let k = i * wu + j;
-            let l = luminance(rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2]);
+            let l = luminance([rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2]]);
             f[k] = l * s;
             lum_sum += l * s;
             sin_sum += s;

@@ -213,10 +213,10 @@ impl CameraSpec {
         CameraSpec { position: c.position, forward: c.forward, up: c.up, yfov, mag }
     }
 
-    /// A perspective camera framing the box `[min, max]` from its +z side (yfov 40 degrees).
-    pub fn framing(min: [f32; 3], max: [f32; 3]) -> CameraSpec {
-        let c = [(min[0] + max[0]) * 0.5, (min[1] + max[1]) * 0.5, (min[2] + max[2]) * 0.5];
-        let r = ((max[0] - min[0]).powi(2) + (max[1] - min[1]).powi(2) + (max[2] - min[2]).powi(2)).sqrt() * 0.5;
+    /// A perspective camera framing `bounds` (its bounding sphere) from its +z side (yfov 40
+    /// degrees).
+    pub fn framing(bounds: &scene::Aabb) -> CameraSpec {
+        let (c, r) = bounds.bounding_sphere();
         let yfov = 40f32.to_radians();
         let d = r.max(1e-3) / (yfov * 0.5).sin();
         CameraSpec { position: [c[0], c[1], c[2] + d], forward: [0.0, 0.0, -1.0], up: [0.0, 1.0, 0.0], yfov: Some(yfov), mag: [1.0, 1.0] }
