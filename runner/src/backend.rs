@@ -219,10 +219,16 @@ pub trait LaunchArgs: bytemuck::Pod + Send + Sync {
     fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32);
 }
 
-impl LaunchArgs for shader_kernels::render::RenderArgs {
-    fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32) {
-        self.invocations = invocations;
-        self.groups_x = groups_x;
-        self.first_pixel = first;
-    }
+/// `LaunchArgs` for records whose launch fields are `invocations`, `groups_x`, `first_pixel`.
+macro_rules! pixel_launch_args {
+    ($($t:ty),*) => {$(
+        impl LaunchArgs for $t {
+            fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32) {
+                self.invocations = invocations;
+                self.groups_x = groups_x;
+                self.first_pixel = first;
+            }
+        }
+    )*};
 }
+pixel_launch_args!(shader_kernels::render::RenderArgs, shader_kernels::render::GBufferArgs);

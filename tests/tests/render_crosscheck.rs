@@ -1,7 +1,9 @@
 //! The path tracer CPU vs GPU (0 ULP): every pixel of the radiance and of every AOV, on the
 //! built-in scene for every estimator and compensation mode, on the shared Cornell box over
 //! several progressive launches, and on a test-made scene with textures, a normal map, an alpha
-//! mask, transmission, punctual lights and an environment map.
+//! mask, transmission, punctual lights and an environment map; the G-buffer / SSR reference
+//! kernel (`render::pt_gbuffer`) on the Cornell box and the feature scene over progressive
+//! launches.
 
 use crosscheck::{assert_bits_equal, gpu_backend};
 use host::energy::{self, Compensation, TableSpec};
@@ -138,4 +140,32 @@ fn feature_scene_with_environment_map() {
         let p = params(&scene, 32, 24, STRATEGY_MIS, comp.id(), 0.5);
         both(&format!("feature scene {}", comp.label()), gpu, &inputs, &p, 2, 1);
     }
+}
+
+/// The G-buffer kernel CPU vs GPU: every output value (G-buffer, reference sums, ray counts)
+/// over two progressive launches.
+fn gbuffer_both(tag: &str, gpu: &Backend, inputs: &RenderInputs<'_>, p: &RenderParams, max_roughness: f32) {
+    use host::render::gbuffer::render_gbuffer;
+    use shader_core::pt::gbuffer::GBufferParams;
+    let gp = GBufferParams { render: *p, max_roughness, fallback: shader_core::Vec3::new(0.25, 0.5, 0.75) };
+    let (c, _) = render_gbuffer(&Backend::Cpu, inputs, &gp, 3, 2, |_| {}).unwrap();
+    let (g, _) = render_gbuffer(gpu, inputs, &gp, 3, 2, |_| {}).unwrap();
+    assert_bits_equal(&format!("{tag} G-buffer + reference"), shader_kernels::render::GBUFFER_STRIDE, &c.values, &g.values);
+    let stride = shader_kernels::render::GBUFFER_STRIDE;
+    let glossy = c.values.chunks_exact(stride).filter(|px| px[9] != 0.0 && px[22] > 0.0 && px[10] > 0.0).count();
+    assert!(glossy > c.values.len() / stride / 20, "{tag}: only {glossy} glossy pixels with reference radiance: the comparison would prove little");
+}
+
+#[test]
+fn gbuffer_and_reference_cornell_box_and_feature_scene() {
+    let Some(gpu) = gpu_backend() else { return };
+    let lut = lut();
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+    let scene = Scene::load(path).unwrap();
+    let sky = env::build(&EnvSpec::Uniform([1.0, 0.9, 0.8]), 1.0, 0.0).unwrap();
+    let inputs = RenderInputs { scene: &scene.words, env: &sky.words, lut: &lut };
+    gbuffer_both("cornell box", gpu, &inputs, &params(&scene, 32, 32, STRATEGY_MIS, Compensation::Turquin.id(), 1.0), 1.0);
+    let (scene, e) = feature_scene();
+    let inputs = RenderInputs { scene: &scene.words, env: &e.words, lut: &lut };
+    gbuffer_both("feature scene", gpu, &inputs, &params(&scene, 32, 24, STRATEGY_MIS, Compensation::Turquin.id(), 0.5), 0.7);
 }

@@ -111,6 +111,28 @@ pub struct RenderCommand {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Also write the SSR inputs of this view: the G-buffer EXR `host ssr --input` reads (with
+    /// its camera JSON beside it) and the path-traced reference of the normalized glossy
+    /// reflection (`<stem>.reference.exr`, all geometry and on-screen only). Perspective
+    /// cameras only.
+    #[arg(long)]
+    pub gbuffer: Option<PathBuf>,
+    /// --gbuffer: reference samples per glossy pixel (each a path-traced reflected ray); 0 = no
+    /// reference.
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
+    pub reference_spp: u32,
+    /// --gbuffer: pixels with perceptual roughness <= this get reference values (match
+    /// `host ssr --min-smoothness` = 1 - this; the default 0.6 matches its default 0.4).
+    #[arg(long, default_value_t = 0.6, value_parser = crate::cli_args::f32_in(0.0, 1.0))]
+    pub max_roughness: f32,
+    /// Camera path: frame k's camera is the chosen one turned by k x DEG degrees about the
+    /// vertical axis through the scene's centre. With --gbuffer, the colour buffer and motion
+    /// vectors come from frame --frame - 1.
+    #[arg(long, allow_negative_numbers = true)]
+    pub orbit: Option<f64>,
+    /// Frame of the --orbit camera path (default 1).
+    #[arg(long, requires = "orbit", allow_negative_numbers = true)]
+    pub frame: Option<i32>,
 }
 
 /// A scene ready to render: the loaded scene, its camera, environment and tables.
@@ -135,6 +157,14 @@ impl RenderCommand {
         if !self.clamp.is_finite() || self.clamp < 0.0 {
             bail!("--clamp {}: must be finite and >= 0 (0 = off)", self.clamp);
         }
+        if let Some(o) = self.orbit {
+            if !o.is_finite() {
+                bail!("--orbit {o}: must be a finite number of degrees per frame");
+            }
+        }
+        if self.gbuffer.is_some() && self.width.max(self.height) > 8192 {
+            bail!("--gbuffer: {}x{} is larger than the SSR pipelines take (8192 per side)", self.width, self.height);
+        }
         if self.scene.is_none() && self.camera.is_some() && self.camera.as_deref() != Some("0") && self.camera.as_deref() != Some("default") {
             bail!("--camera {:?}: the built-in scene has one camera, \"default\" (index 0)", self.camera.as_deref().unwrap_or(""));
         }
@@ -155,7 +185,19 @@ impl RenderCommand {
             compensation: self.compensation.id(),
             clamp: self.clamp,
             p_env: prep.p_env,
-            camera: prep.camera.camera(self.width, self.height)?,
+            camera: self.frame_camera(prep, 0)?.camera(self.width, self.height)?,
+        })
+    }
+
+    /// The camera of the rendered frame (`offset` 0) or of a frame before it (`offset` -1),
+    /// on the --orbit path.
+    pub fn frame_camera(&self, prep: &Prepared, offset: i32) -> Result<CameraSpec> {
+        Ok(match self.orbit {
+            None => prep.camera.clone(),
+            Some(deg) => {
+                let k = self.frame.unwrap_or(1) as f64 + offset as f64;
+                super::gbuffer::orbit(&prep.camera, prep.scene.bounds.bounding_sphere().0, k * deg)
+            }
         })
     }
 
@@ -226,6 +268,9 @@ pub fn sidecars(exr: &Path) -> (PathBuf, PathBuf) {
 pub fn main(cmd: RenderCommand) -> Result<()> {
     cmd.validate()?;
     crate::io::prepare_output(&cmd.output)?;
+    if let Some(g) = &cmd.gbuffer {
+        crate::io::prepare_output(g)?;
+    }
     let t_all = Instant::now();
     let backend = Backend::select(cmd.device)?;
     eprintln!("{}", backend.describe());
@@ -246,26 +291,9 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     );
     let params = cmd.params(&prep)?;
     let inputs = RenderInputs { scene: &s.words, env: &prep.env.words, lut: &prep.lut };
-    let bar = if cmd.quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        let b = indicatif::ProgressBar::new(cmd.spp as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} spp, {elapsed_precise} elapsed, eta {eta}")
-                .expect("valid template")
-                .progress_chars("=> "),
-        );
-        b.set_message("rendering");
-        b
-    };
     let pixels = cmd.width as f64 * cmd.height as f64;
     let t_render = Instant::now();
-    let (img, time) = super::render(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, |done| {
-        bar.set_position(done as u64);
-        let dt = t_render.elapsed().as_secs_f64();
-        bar.set_message(format!("{:.2} M samples/s", done as f64 * pixels / dt.max(1e-9) / 1e6));
-    })?;
-    bar.finish_and_clear();
+    let (img, time) = progressive(&cmd, "rendering", cmd.spp, |progress| super::render(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, progress))?;
     let wall = t_render.elapsed().as_secs_f64();
     let compile = match &backend {
         Backend::Gpu(g) => g.compile_seconds(super::ENTRY),
@@ -284,6 +312,10 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         img.rays / wall / 1e6,
         pixels * cmd.spp as f64 / wall / 1e6
     );
+    let gbuffer = match &cmd.gbuffer {
+        Some(path) => Some(export_gbuffer(&cmd, path, &backend, &prep, &inputs, &params, &img)?),
+        None => None,
+    };
     super::write_exr(&cmd.output, &img)?;
     let (png, json) = sidecars(&cmd.output);
     crate::io::write_png(&png, &super::preview(img.width, img.height, &img.color, cmd.exposure, cmd.tonemap))?;
@@ -300,8 +332,116 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         "render_seconds": time.seconds, "render_timing": time.source.to_string(), "render_wall_seconds": wall,
         "driver_compile_seconds": compile, "rays": img.rays, "rays_per_second": img.rays / wall,
         "digest": format!("{digest:016x}"), "warnings": s.warnings, "total_seconds": t_all.elapsed().as_secs_f64(),
+        "orbit_degrees_per_frame": cmd.orbit, "frame": cmd.orbit.map(|_| cmd.frame.unwrap_or(1)), "gbuffer": gbuffer,
     });
     crate::io::write_file(&json, serde_json::to_string_pretty(&summary)? + "\n")?;
     eprintln!("wrote {}, {}, {}", cmd.output.display(), png.display(), json.display());
     Ok(())
+}
+
+/// Run `work` (a progressive render of `total` samples) under a progress bar named `what`,
+/// showing samples/s; `work` gets the callback to call with the samples done.
+fn progressive<T>(cmd: &RenderCommand, what: &str, total: u32, work: impl FnOnce(&mut dyn FnMut(u32)) -> Result<T>) -> Result<T> {
+    let bar = if cmd.quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        let b = indicatif::ProgressBar::new(total as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} spp, {elapsed_precise} elapsed, eta {eta}")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        b.set_message(what.to_string());
+        b
+    };
+    let pixels = cmd.width as f64 * cmd.height as f64;
+    let t0 = Instant::now();
+    let r = work(&mut |done| {
+        bar.set_position(done as u64);
+        let dt = t0.elapsed().as_secs_f64();
+        bar.set_message(format!("{what}: {:.2} M samples/s", done as f64 * pixels / dt.max(1e-9) / 1e6));
+    });
+    bar.finish_and_clear();
+    r
+}
+
+/// The reference EXR beside G-buffer `path`: `<stem>.reference.exr`.
+pub fn reference_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "gbuffer".into());
+    path.with_file_name(format!("{stem}.reference.exr"))
+}
+
+/// `--gbuffer`: render the previous frame's colour (when the camera moves), the G-buffer and
+/// the reference, and write them; returns the summary's `gbuffer` entry.
+fn export_gbuffer(
+    cmd: &RenderCommand,
+    path: &Path,
+    backend: &Backend,
+    prep: &Prepared,
+    inputs: &RenderInputs<'_>,
+    params: &RenderParams,
+    img: &super::RenderImage,
+) -> Result<serde_json::Value> {
+    use super::gbuffer::{render_gbuffer, ssr_camera, to_ssr, Frames};
+    use shader_core::pt::gbuffer::GBufferParams;
+    let (w, h) = (cmd.width, cmd.height);
+    let previous = cmd.frame_camera(prep, -1)?.camera(w, h)?;
+    let radius = prep.scene.bounds.bounding_sphere().1;
+    let near = (radius * 1e-3).max(1e-6);
+    let ssr_cam = ssr_camera(&params.camera, near)?;
+    let ssr_prev = ssr_camera(&previous, near)?;
+    let t0 = Instant::now();
+    let color = if previous == params.camera {
+        img.color.clone()
+    } else {
+        let p = RenderParams { camera: previous, ..*params };
+        let (prev_img, _) = progressive(cmd, "previous frame", cmd.spp, |progress| super::render(backend, inputs, &p, cmd.spp, cmd.spp_per_pass, progress))?;
+        prev_img.color
+    };
+    let colour_s = t0.elapsed().as_secs_f64();
+    let m = prep.env.mean_radiance;
+    let gp = GBufferParams { render: *params, max_roughness: cmd.max_roughness, fallback: shader_core::Vec3::new(m[0], m[1], m[2]) };
+    let t1 = Instant::now();
+    let (sums, time) = progressive(cmd, "G-buffer + reference", cmd.reference_spp, |progress| {
+        render_gbuffer(backend, inputs, &gp, cmd.reference_spp, cmd.spp_per_pass, progress)
+    })?;
+    let wall = t1.elapsed().as_secs_f64();
+    let rays: f64 = sums.values.chunks_exact(shader_kernels::render::GBUFFER_STRIDE).map(|p| p[25] as f64).sum();
+    let ref_path = reference_path(path);
+    let info = crate::ssr::gbuffer::ReferenceFile {
+        file: ref_path.file_name().expect("a file name").to_string_lossy().into_owned(),
+        samples: cmd.reference_spp,
+        max_roughness: cmd.max_roughness,
+        method: format!(
+            "path traced: {} strategy, max depth {}, {} compensation, seed {}; fallback = the environment's mean radiance",
+            format!("{:?}", cmd.strategy).to_lowercase(),
+            cmd.max_depth,
+            cmd.compensation.label(),
+            cmd.seed
+        ),
+    };
+    let (gb, reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: m }, Some(info))?;
+    gb.save(path)?;
+    let mut files = vec![path.display().to_string(), crate::ssr::gbuffer::camera_path(path).display().to_string()];
+    if let Some(r) = &reference {
+        r.save(&ref_path)?;
+        files.push(ref_path.display().to_string());
+    }
+    let glossy = reference.as_ref().map(|r| r.glossy.iter().filter(|g| **g).count()).unwrap_or(0);
+    eprintln!(
+        "G-buffer{}: {:.3} s ({}; wall {:.3} s, {:.3} M rays/s), {} glossy pixels{}; wrote {}",
+        if cmd.reference_spp > 0 { format!(" + reference ({} samples per glossy pixel)", cmd.reference_spp) } else { String::new() },
+        time.seconds,
+        time.source,
+        wall,
+        rays / wall.max(1e-9) / 1e6,
+        glossy,
+        if colour_s > 0.01 { format!("; previous frame's colour {colour_s:.3} s") } else { String::new() },
+        files.join(", ")
+    );
+    Ok(serde_json::json!({
+        "files": files, "reference_spp": cmd.reference_spp, "max_roughness": cmd.max_roughness,
+        "fallback": m, "near": near, "glossy_pixels": glossy, "seconds": time.seconds, "wall_seconds": wall,
+        "rays": rays, "previous_frame_seconds": colour_s,
+    }))
 }

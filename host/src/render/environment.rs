@@ -52,6 +52,8 @@ pub struct Environment {
     pub label: String,
     /// Mean radiance over the sphere (luminance), for the light-selection estimate.
     pub mean_luminance: f64,
+    /// Mean radiance over the sphere per RGB channel (the uniform fallback of SSR).
+    pub mean_radiance: [f32; 3],
 }
 
 impl Environment {
@@ -88,7 +90,7 @@ pub fn build(spec: &EnvSpec, scale: f32, rotation_deg: f32) -> Result<Environmen
         bail!("--env-rotation {rotation_deg}: must be finite");
     }
     match spec {
-        EnvSpec::Black => Ok(Environment { words: header(KIND_BLACK, [0.0; 3], 0, 0, 0.0), label: "black".into(), mean_luminance: 0.0 }),
+        EnvSpec::Black => Ok(Environment { words: header(KIND_BLACK, [0.0; 3], 0, 0, 0.0), label: "black".into(), mean_luminance: 0.0, mean_radiance: [0.0; 3] }),
         EnvSpec::Uniform(c) => {
             let rgb = [c[0] * scale, c[1] * scale, c[2] * scale];
             if rgb == [0.0; 3] {
@@ -98,6 +100,7 @@ pub fn build(spec: &EnvSpec, scale: f32, rotation_deg: f32) -> Result<Environmen
                 words: header(KIND_UNIFORM, rgb, 0, 0, 0.0),
                 label: format!("uniform radiance ({}, {}, {})", rgb[0], rgb[1], rgb[2]),
                 mean_luminance: luminance(rgb),
+                mean_radiance: rgb,
             })
         }
         EnvSpec::Map(path) => {
@@ -144,6 +147,7 @@ pub fn from_map(w: u32, h: u32, rgb: &[f32], scale: f32, rotation_deg: f32) -> R
     let mut f = vec![0.0f64; wu * hu];
     let mut lum_sum = 0.0f64;
     let mut sin_sum = 0.0f64;
+    let mut rgb_sum = [0.0f64; 3];
     for i in 0..hu {
         let s = (std::f64::consts::PI * (i as f64 + 0.5) / hu as f64).sin();
         for j in 0..wu {
@@ -151,6 +155,9 @@ pub fn from_map(w: u32, h: u32, rgb: &[f32], scale: f32, rotation_deg: f32) -> R
             let l = luminance([rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2]]);
             f[k] = l * s;
             lum_sum += l * s;
+            for (c, acc) in rgb_sum.iter_mut().enumerate() {
+                *acc += rgb[3 * k + c] as f64 * s;
+            }
             sin_sum += s;
         }
     }
@@ -178,7 +185,8 @@ pub fn from_map(w: u32, h: u32, rgb: &[f32], scale: f32, rotation_deg: f32) -> R
         }
     }
     debug_assert_eq!(words.len(), ENV_HEADER + 5 * wu * hu + hu);
-    Ok(Environment { words, label: format!("map {w}x{h}"), mean_luminance: scale as f64 * lum_sum / sin_sum })
+    let mean_radiance = rgb_sum.map(|v| (scale as f64 * v / sin_sum) as f32);
+    Ok(Environment { words, label: format!("map {w}x{h}"), mean_luminance: scale as f64 * lum_sum / sin_sum, mean_radiance })
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 pub mod bench;
 pub mod cli;
 pub mod environment;
+pub mod gbuffer;
 pub mod scene;
 
 use anyhow::{bail, Context, Result};

@@ -155,4 +155,37 @@ impl Camera {
         let ny = v[1] / v[2] / t;
         ((nx * 0.5 + 0.5) * width as f64, (0.5 - ny * 0.5) * height as f64)
     }
+
+    /// World point at linear view depth `depth` through screen point (sx, sy) (pixels): the
+    /// inverse of [`Camera::view_to_screen`] with [`Camera::to_view`].
+    pub fn unproject(&self, width: usize, height: usize, sx: f64, sy: f64, depth: f64) -> V3 {
+        let t = (f64::from(self.fov_y_degrees).to_radians() * 0.5).tan();
+        let aspect = width as f64 / height as f64;
+        let nx = sx / width as f64 * 2.0 - 1.0;
+        let ny = 1.0 - sy / height as f64 * 2.0;
+        let v = [nx * t * aspect * depth, ny * t * depth, depth];
+        let m = self.world_to_view;
+        let d = [v[0] - m[3] as f64, v[1] - m[7] as f64, v[2] - m[11] as f64];
+        // world = R^T (v - t)
+        std::array::from_fn(|k| m[k] as f64 * d[0] + m[4 + k] as f64 * d[1] + m[8 + k] as f64 * d[2])
+    }
+
+    /// The motion vector UV(this camera) - UV(`previous`) of screen point (sx, sy) (pixels):
+    /// of world point `point`, or for the sky (`None`) of the direction through (sx, sy)
+    /// (a point at infinity, which only the rotation moves); 0 where the previous camera does
+    /// not see it in front.
+    pub fn motion(&self, previous: &Camera, width: usize, height: usize, sx: f64, sy: f64, point: Option<V3>) -> [f32; 2] {
+        let v = match point {
+            Some(p) => previous.to_view(p),
+            None => {
+                let d = self.ray_dir(width, height, sx, sy);
+                sub(previous.to_view(add(previous.eye(), d)), previous.to_view(previous.eye()))
+            }
+        };
+        if !(v[2] > 1e-9) {
+            return [0.0, 0.0];
+        }
+        let (px, py) = previous.view_to_screen(width, height, v);
+        [((sx - px) / width as f64) as f32, ((sy - py) / height as f64) as f32]
+    }
 }

@@ -106,8 +106,8 @@ pub struct RunArgs {
     /// SSSR: disable the depth/normal history rejection (the neighbourhood clamp stays).
     #[arg(long)]
     pub no_history_rejection: bool,
-    /// Reference rays per glossy pixel (procedural scenes); 0 skips the ray-traced reference
-    /// (no error figures, no reference images).
+    /// Reference rays per glossy pixel (built-in scenes); 0 skips the reference (no error
+    /// figures, no reference images), also the one a G-buffer's JSON names.
     #[arg(long, default_value_t = 64)]
     pub reference_samples: u32,
     /// Backend: auto, cpu or gpu (see `host --help`).
@@ -224,15 +224,22 @@ pub fn steps_limit(a: &RunArgs, width: usize, height: usize) -> Result<u32> {
     })
 }
 
-/// The input of a run: a G-buffer and, for built-in scenes, the scene.
+/// The input of a run: a G-buffer and, for built-in scenes, the scene; for a G-buffer file, the
+/// reference its JSON names.
 pub struct Input {
     pub gbuffer: GBuffer,
     pub scene: Option<Scene>,
+    pub reference: Option<Reference>,
 }
 
 pub fn load_input(a: &RunArgs) -> Result<Input> {
     if let Some(p) = &a.input {
-        return Ok(Input { gbuffer: GBuffer::load(p)?, scene: None });
+        let gbuffer = GBuffer::load(p)?;
+        let reference = match (gbuffer.reference_path(p), &gbuffer.reference) {
+            (Some(rp), Some(info)) if a.reference_samples > 0 => Some(Reference::load(&rp, gbuffer.width, gbuffer.height, info.samples)?),
+            _ => None,
+        };
+        return Ok(Input { gbuffer, scene: None, reference });
     }
     if a.width == 0 || a.height == 0 || a.width > 4096 || a.height > 4096 {
         bail!("--width/--height must be in 1..=4096");
@@ -240,7 +247,7 @@ pub fn load_input(a: &RunArgs) -> Result<Input> {
     let s = scene(&a.scene)?;
     let g = s.render_gbuffer(a.width, a.height, a.frame);
     g.validate()?;
-    Ok(Input { gbuffer: g, scene: Some(s) })
+    Ok(Input { gbuffer: g, scene: Some(s), reference: None })
 }
 
 /// Run the chosen pipeline.
@@ -481,7 +488,7 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
     let tables = crate::energy::load_or_precompute(&backend, &a.lut)?;
     let mut result = run_pipeline(&backend, &input, a)?;
     // Specular = composited reflection x FG (energy tables), a pass of its own.
-    let sky = input.scene.as_ref().map(|s| s.sky).unwrap_or([0.0; 3]);
+    let sky = input.gbuffer.fallback;
     let consts = super::pipeline::build_params(&input.gbuffer, &a.settings())?;
     let comp: Vec<f32> = composite(&result.reflection, sky).chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
     let mut r = super::pipeline::Runner::new(&backend);
@@ -498,12 +505,12 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
             t.skipped, t.tiles, t.rays, t.eligible_pixels
         );
     }
-    let reference = match &input.scene {
-        Some(_) if a.reference_samples == 0 => {
+    let reference = match (&input.scene, &input.reference) {
+        _ if a.reference_samples == 0 => {
             eprintln!("  reference: skipped (--reference-samples 0): no error figures, no reference images or channels");
             None
         }
-        Some(s) => {
+        (Some(s), _) => {
             let t0 = std::time::Instant::now();
             let r = render_reference(s, &input.gbuffer, 1.0 - a.min_smoothness, a.reference_samples);
             eprintln!(
@@ -512,36 +519,48 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
                 r.samples,
                 if r.samples == 1 { "ray" } else { "rays" }
             );
-            let e = errors(&result, &r, sky);
-            if e.all.pixels == 0 {
-                eprintln!("  error vs reference: n/a: no glossy pixels: nothing measured (see --min-smoothness, --frame)");
-            } else {
-                let spec_rgb: Vec<f32> = specular.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
-                let es = error(&spec_rgb, &r.specular_onscreen, &r.glossy);
-                let ea = error(&spec_rgb, &r.specular_all, &r.glossy);
-                let f = |e: &ErrorStats| format!("RMSE {} rel {}", figure(e.rmse, 4), figure(e.rel, 3));
-                eprintln!(
-                    "  error vs reference: on-screen pixels ({}) {}; all glossy ({}) {} (vs on-screen reference: {})",
-                    e.onscreen.pixels,
-                    f(&e.onscreen),
-                    e.all.pixels,
-                    f(&e.all),
-                    f(&e.algorithm)
-                );
-                eprintln!(
-                    "  specular (x FG) vs reference integral: glossy pixels ({}) on-screen {}; all geometry {}",
-                    es.pixels,
-                    f(&es),
-                    f(&ea)
-                );
-            }
             Some(r)
         }
-        None => {
-            eprintln!("  reference: none (G-buffer input: only built-in scenes have one)");
+        (None, Some(r)) => {
+            let info = input.gbuffer.reference.as_ref().expect("a loaded reference has its entry");
+            if (info.max_roughness - (1.0 - a.min_smoothness)).abs() > 1e-6 {
+                bail!(
+                    "the G-buffer's reference covers perceptual roughness <= {}, this run traces <= {} (--min-smoothness {}): run with --min-smoothness {} or export the reference again with --max-roughness {}",
+                    info.max_roughness,
+                    1.0 - a.min_smoothness,
+                    a.min_smoothness,
+                    1.0 - info.max_roughness,
+                    1.0 - a.min_smoothness
+                );
+            }
+            eprintln!("  reference: {} ({} samples per glossy pixel, {})", info.file, info.samples, info.method);
+            Some(r.clone())
+        }
+        (None, None) => {
+            eprintln!("  reference: none (the G-buffer's JSON names no reference; `host render --gbuffer` writes one)");
             None
         }
     };
+    if let Some(r) = &reference {
+        let e = errors(&result, r, sky);
+        if e.all.pixels == 0 {
+            eprintln!("  error vs reference: n/a: no glossy pixels: nothing measured (see --min-smoothness, --frame)");
+        } else {
+            let spec_rgb: Vec<f32> = specular.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
+            let es = error(&spec_rgb, &r.specular_onscreen, &r.glossy);
+            let ea = error(&spec_rgb, &r.specular_all, &r.glossy);
+            let f = |e: &ErrorStats| format!("RMSE {} rel {}", figure(e.rmse, 4), figure(e.rel, 3));
+            eprintln!(
+                "  error vs reference: on-screen pixels ({}) {}; all glossy ({}) {} (vs on-screen reference: {})",
+                e.onscreen.pixels,
+                f(&e.onscreen),
+                e.all.pixels,
+                f(&e.all),
+                f(&e.algorithm)
+            );
+            eprintln!("  specular (x FG) vs reference integral: glossy pixels ({}) on-screen {}; all geometry {}", es.pixels, f(&es), f(&ea));
+        }
+    }
     // The lit frame, with the current frame's colour.
     let colour = match &input.scene {
         Some(s) if input.gbuffer.previous_camera != input.gbuffer.camera => s.render_color(w, h, &input.gbuffer.camera),

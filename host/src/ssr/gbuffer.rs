@@ -3,7 +3,10 @@
 //! previous frame.
 //!
 //! On disk: one EXR with the channels [`CHANNELS`] plus a JSON file beside it (same stem,
-//! `.json`) holding `{"width", "height", "camera", "previous_camera"}` (see [`Camera`]).
+//! `.json`) holding `{"width", "height", "camera", "previous_camera"}` (see [`Camera`]), and
+//! optionally `"fallback"` (the uniform radiance reflections fall back to; default black) and
+//! `"reference"` (a reference EXR beside it, [`ReferenceFile`]; `host render --gbuffer` writes
+//! one).
 //! Depth is linear view depth (> 0; `+inf` = sky); normals are world-space unit vectors; the
 //! colour is the previous frame's HDR colour (what HDRP's colour pyramid holds when SSR runs);
 //! motion vectors are UV(current) - UV(previous); base colour and metalness give the glTF
@@ -39,6 +42,10 @@ pub struct GBuffer {
     pub motion: Vec<f32>,
     pub camera: Camera,
     pub previous_camera: Camera,
+    /// Radiance of the fallback environment (what a reflection that finds nothing returns).
+    pub fallback: [f32; 3],
+    /// The reference EXR beside the G-buffer, if there is one.
+    pub reference: Option<ReferenceFile>,
 }
 
 /// The JSON beside the EXR.
@@ -48,6 +55,23 @@ pub struct CameraFile {
     pub height: usize,
     pub camera: Camera,
     pub previous_camera: Camera,
+    #[serde(default)]
+    pub fallback: [f32; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference: Option<ReferenceFile>,
+}
+
+/// A reference of the G-buffer's frame (`super::reference::Reference::save`'s EXR).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceFile {
+    /// File name, relative to the G-buffer EXR's directory.
+    pub file: String,
+    /// Samples per glossy pixel.
+    pub samples: u32,
+    /// Pixels with perceptual roughness <= this have reference values (the `glossy` channel).
+    pub max_roughness: f32,
+    /// How it was made (e.g. "path traced, max depth 8").
+    pub method: String,
 }
 
 /// The JSON path of an EXR path.
@@ -118,6 +142,14 @@ impl GBuffer {
         }
         self.camera.validate("camera")?;
         self.previous_camera.validate("previous_camera")?;
+        if self.fallback.iter().any(|v| !v.is_finite() || *v < 0.0) {
+            bail!("G-buffer fallback radiance must be finite and >= 0, got {:?}", self.fallback);
+        }
+        if let Some(r) = &self.reference {
+            if !(r.max_roughness >= 0.0 && r.max_roughness <= 1.0) || r.samples == 0 || r.file.is_empty() {
+                bail!("G-buffer reference entry is invalid (file {:?}, {} samples, max_roughness {}): needs a file, samples >= 1, max_roughness in [0, 1]", r.file, r.samples, r.max_roughness);
+            }
+        }
         Ok(())
     }
 
@@ -168,9 +200,16 @@ impl GBuffer {
             height: self.height,
             camera: self.camera,
             previous_camera: self.previous_camera,
+            fallback: self.fallback,
+            reference: self.reference.clone(),
         };
         let json = serde_json::to_string_pretty(&cams)?;
         crate::io::write_file(&camera_path(exr), json)
+    }
+
+    /// The reference EXR's path, for a G-buffer loaded from `exr`.
+    pub fn reference_path(&self, exr: &Path) -> Option<PathBuf> {
+        self.reference.as_ref().map(|r| exr.parent().unwrap_or(Path::new("")).join(&r.file))
     }
 
     /// Read an EXR written by [`GBuffer::save`] (or by another tool with the same channels) and
@@ -217,6 +256,8 @@ impl GBuffer {
             motion: inter(&["motion.X", "motion.Y"])?,
             camera: cams.camera,
             previous_camera: cams.previous_camera,
+            fallback: cams.fallback,
+            reference: cams.reference,
         };
         g.validate().with_context(|| format!("invalid G-buffer {}", exr.display()))?;
         Ok(g)

@@ -218,3 +218,63 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
     }
     r
 }
+
+/// EXR channels of a saved reference (interleaved RGB images split per channel).
+pub const REFERENCE_CHANNELS: [&str; 14] = [
+    "all.R", "all.G", "all.B", "onscreen.R", "onscreen.G", "onscreen.B", "specular_all.R", "specular_all.G", "specular_all.B",
+    "specular_onscreen.R", "specular_onscreen.G", "specular_onscreen.B", "onscreen_fraction", "glossy",
+];
+
+impl Reference {
+    /// Write the reference as an EXR with [`REFERENCE_CHANNELS`] (`glossy` = 1 or 0).
+    pub fn save(&self, path: &std::path::Path) -> anyhow::Result<()> {
+        let n = self.width * self.height;
+        let ch = |v: &[f32], k: usize| -> Vec<f32> { (0..n).map(|i| v[3 * i + k]).collect() };
+        let mut chans: Vec<Vec<f32>> = Vec::new();
+        for img in [&self.all, &self.onscreen, &self.specular_all, &self.specular_onscreen] {
+            chans.extend((0..3).map(|k| ch(img, k)));
+        }
+        chans.push(self.onscreen_fraction.clone());
+        chans.push(self.glossy.iter().map(|&g| if g { 1.0 } else { 0.0 }).collect());
+        let refs: Vec<(&str, &[f32])> = REFERENCE_CHANNELS.iter().zip(&chans).map(|(n, c)| (*n, c.as_slice())).collect();
+        crate::io::write_exr(path, self.width, self.height, &refs)
+    }
+
+    /// Read a reference written by [`Reference::save`] for a `width x height` G-buffer; the
+    /// error names a wrong size, a missing channel or a bad value.
+    pub fn load(path: &std::path::Path, width: usize, height: usize, samples: u32) -> anyhow::Result<Reference> {
+        use anyhow::{bail, Context};
+        let img = crate::io::read_exr(path).with_context(|| format!("reading the reference {}", path.display()))?;
+        if img.width != width || img.height != height {
+            bail!("the reference {} is {}x{}, the G-buffer {width}x{height}", path.display(), img.width, img.height);
+        }
+        let n = width * height;
+        let get = |name: &str| -> anyhow::Result<&[f32]> {
+            let c = img.channel(name).with_context(|| format!("in the reference {}", path.display()))?;
+            if let Some(i) = c.iter().position(|v| !v.is_finite() || *v < 0.0) {
+                bail!("the reference {} channel {name} is {} at pixel ({}, {}): must be finite and >= 0", path.display(), c[i], i % width, i / width);
+            }
+            Ok(c)
+        };
+        let rgb = |base: &str| -> anyhow::Result<Vec<f32>> {
+            let cs = [get(&format!("{base}.R"))?, get(&format!("{base}.G"))?, get(&format!("{base}.B"))?];
+            Ok((0..n).flat_map(|i| cs.map(|c| c[i])).collect())
+        };
+        let glossy = get("glossy")?;
+        if let Some(i) = glossy.iter().position(|&g| g != 0.0 && g != 1.0) {
+            bail!("the reference {} channel glossy must be 0 or 1, got {} at pixel ({}, {})", path.display(), glossy[i], i % width, i / width);
+        }
+        Ok(Reference {
+            width,
+            height,
+            all: rgb("all")?,
+            onscreen: rgb("onscreen")?,
+            specular_all: rgb("specular_all")?,
+            specular_onscreen: rgb("specular_onscreen")?,
+            onscreen_fraction: get("onscreen_fraction")?.to_vec(),
+            glossy: glossy.iter().map(|&g| g == 1.0).collect(),
+            mirror_hit: vec![f32::NAN; 2 * n],
+            samples,
+        })
+    }
+}

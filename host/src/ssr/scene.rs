@@ -218,29 +218,17 @@ impl Scene {
                     Some(h) => {
                         let v = cam.to_view(h.p);
                         let m = &self.objects[h.object].material;
-                        let (px, py) = prev.view_to_screen(width, height, prev.to_view(h.p));
-                        let mv = [(sx - px) / width as f64, (sy - py) / height as f64];
+                        let mv = cam.motion(&prev, width, height, sx, sy, Some(h.p));
                         (
                             v[2] as f32,
                             [h.n[0] as f32, h.n[1] as f32, h.n[2] as f32],
                             m.roughness_at(h.p),
                             m.metalness,
                             [m.albedo[0] as f32, m.albedo[1] as f32, m.albedo[2] as f32],
-                            [mv[0] as f32, mv[1] as f32],
+                            mv,
                         )
                     }
-                    None => {
-                        let pv = prev.to_view(add(prev.eye(), d));
-                        let pe = prev.to_view(prev.eye());
-                        let dv = sub(pv, pe);
-                        let mv = if dv[2] > 1e-9 {
-                            let (px, py) = prev.view_to_screen(width, height, dv);
-                            [((sx - px) / width as f64) as f32, ((sy - py) / height as f64) as f32]
-                        } else {
-                            [0.0, 0.0]
-                        };
-                        (f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, [0.0; 3], mv)
-                    }
+                    None => (f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, [0.0; 3], cam.motion(&prev, width, height, sx, sy, None)),
                 }
             })
             .collect();
@@ -257,6 +245,8 @@ impl Scene {
             motion: Vec::with_capacity(2 * n),
             camera: cam,
             previous_camera: prev,
+            fallback: self.sky,
+            reference: None,
         };
         for (z, nn, r, m, bc, mv) in rows {
             g.depth.push(z);

@@ -6,11 +6,13 @@
 //! intersection), [`bvh`] (stackless traversal), [`texture`] (glTF sampling), [`surface`] (the
 //! shading point), [`camera`], [`light`] (punctual lights and emissive triangles),
 //! [`environment`] (uniform or equirectangular, importance sampled), [`material`] (the glTF BxDF
-//! with energy compensation and transmission), [`integrator`] (NEE with MIS, Russian roulette).
+//! with energy compensation and transmission), [`integrator`] (NEE with MIS, Russian roulette),
+//! [`gbuffer`] (the SSR inputs and the path-traced glossy reflection they are judged against).
 
 pub mod bvh;
 pub mod camera;
 pub mod environment;
+pub mod gbuffer;
 pub mod integrator;
 pub mod light;
 pub mod material;

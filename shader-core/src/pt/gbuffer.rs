@@ -1,0 +1,187 @@
+//! The inputs of screen-space reflections and their ground truth from the path tracer: the
+//! first-hit G-buffer through pixel centres, and the normalized glossy reflection SSR estimates,
+//! (1 / sum w) sum w L_i(l) over GGX visible-normal samples l (Heitz 2018, listing 1) with
+//! w = G2 / G1 = (1 + Lambda(v)) / (1 + Lambda(v) + Lambda(l)) (height-correlated Smith, F = 1),
+//! where L_i(l) is path traced ([`integrator::trace_path`]).
+//!
+//! Each sample is split two ways (the convention of the analytic SSR reference): "all geometry"
+//! takes every ray's radiance; "on-screen" keeps it only where the ray escapes or its first hit
+//! projects inside the image and is the surface visible there, and takes the fallback radiance
+//! otherwise and for escaping rays (what a screen-space method composited over a uniform
+//! fallback can at best return). The specular sums weight each sample by Schlick's Fresnel of the
+//! glTF metal-rough F0 = mix(0.04, base colour, metallic), F90 = 1, and are divided by the sample
+//! count: the specular integral that the reflection times the preintegrated FG term approximates.
+//!
+//! ```
+//! use shader_core::pt::gbuffer::reflection_weight;
+//! use shader_core::Vec3;
+//! // The weight is 1 at normal incidence and reflection, and falls with grazing directions.
+//! let v = Vec3::new(0.0, 0.0, 1.0);
+//! assert_eq!(reflection_weight(v, v, 0.5), 1.0);
+//! let l = Vec3::new(0.8, 0.0, 0.6);
+//! assert!(reflection_weight(v, l, 0.5) < 1.0 && reflection_weight(v, l, 0.5) > 0.0);
+//! ```
+
+use super::bvh;
+use super::camera::Camera;
+use super::integrator::{sample_rng, trace_path, RenderParams, SHADOW_EPSILON};
+use super::ray::{offset_origin, Ray};
+use super::scene::NONE;
+use super::surface;
+use crate::fresnel::{reflect, schlick_rgb};
+use crate::ieee;
+use crate::masking::ggx_lambda;
+use crate::vector::Vec3;
+use crate::vndf::sample_vndf_heitz;
+
+/// Mixed into the seed of the reference samples' random streams, so that they are independent
+/// of the streams of a render with the same seed (whose image may be the G-buffer's colour).
+pub const REFERENCE_SEED: u32 = 0x5bd1_e995;
+
+/// What the G-buffer kernel runs with: a `#[repr(C)]` record of 4-byte fields shared by the
+/// host and the kernel (inside `shader_kernels::render::GBufferArgs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
+pub struct GBufferParams {
+    /// The path tracer's parameters for the reflected rays' radiance; `spp` = reference samples
+    /// per pixel in this launch, `sample_base` its first sample index.
+    pub render: RenderParams,
+    /// Pixels with perceptual roughness above this get no reference samples.
+    pub max_roughness: f32,
+    /// The fallback radiance of the on-screen reference (the uniform environment SSR composites
+    /// over).
+    pub fallback: Vec3,
+}
+
+/// One pixel: its G-buffer values and the sums of one launch's reference samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GBufferPixel {
+    /// Linear view depth (along the camera's forward axis), +inf for the sky.
+    pub depth: f32,
+    /// World shading normal (the sky: +y).
+    pub normal: Vec3,
+    /// Perceptual roughness (the sky: 1).
+    pub roughness: f32,
+    /// Metallic (the sky: 0).
+    pub metallic: f32,
+    /// Linear base colour (the sky: 0).
+    pub base: Vec3,
+    /// 1 when reference samples were taken (geometry, roughness <= the cut-off, facing the
+    /// camera), else 0.
+    pub glossy: u32,
+    /// Sum of w L, all geometry.
+    pub all: Vec3,
+    /// Sum of w L, on-screen geometry only.
+    pub onscreen: Vec3,
+    /// Sum of w F L, all geometry.
+    pub specular_all: Vec3,
+    /// Sum of w F L, on-screen geometry only.
+    pub specular_onscreen: Vec3,
+    /// Sum of w.
+    pub weight: f32,
+    /// Sum of w over the samples that are the same both ways (escaped, or a visible on-screen hit).
+    pub weight_same: f32,
+    /// Samples taken (including those that contribute nothing, e.g. below the horizon).
+    pub samples: f32,
+    /// Rays traced.
+    pub rays: f32,
+}
+
+/// G2 / G1 of reflected direction `l` at view direction `v` (both local, `v.z > 0`, `l.z > 0`)
+/// for GGX with isotropic `alpha`: the weight of a visible-normal sample in the normalized
+/// reflection.
+#[inline]
+pub fn reflection_weight(v: Vec3, l: Vec3, alpha: f32) -> f32 {
+    let lv = ggx_lambda(v, alpha, alpha);
+    ieee::div(1.0 + lv, 1.0 + lv + ggx_lambda(l, alpha, alpha))
+}
+
+/// Whether world point `p` is the surface seen through its own image position: it projects in
+/// front of the camera and inside the image, and nothing lies between the eye and it.
+#[inline]
+pub fn visible_on_screen(sc: &[u32], camera: &Camera, width: u32, height: u32, p: Vec3) -> bool {
+    let (sx, sy, z) = camera.project(p, width, height);
+    if !(z > 0.0 && sx >= 0.0 && sy >= 0.0 && sx < width as f32 && sy < height as f32) {
+        return false;
+    }
+    let to = p - camera.origin;
+    let dist = to.length();
+    !bvh::occluded(sc, &Ray::new(camera.origin, to / dist), dist * (1.0 - SHADOW_EPSILON))
+}
+
+/// Pixel `pixel` (row-major from the top-left): the first hit through its centre and
+/// reference samples `sample_base .. sample_base + spp`.
+#[inline]
+pub fn gbuffer_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &GBufferParams, pixel: u32) -> GBufferPixel {
+    let r = &p.render;
+    let (x, y) = (pixel % r.width, pixel / r.width);
+    let primary = r.camera.ray(x as f32 + 0.5, y as f32 + 0.5, r.width, r.height);
+    let mut out = GBufferPixel {
+        depth: f32::INFINITY,
+        normal: Vec3::new(0.0, 1.0, 0.0),
+        roughness: 1.0,
+        rays: 1.0,
+        ..GBufferPixel::default()
+    };
+    let hit = bvh::closest_hit(sc, &primary, f32::INFINITY);
+    if hit.tri == NONE {
+        return out;
+    }
+    let sp = surface::surface_point(sc, hit.tri, hit.b1, hit.b2, primary.d);
+    out.depth = r.camera.depth(primary.d, hit.t);
+    out.normal = sp.ns;
+    out.roughness = sp.material.roughness;
+    out.metallic = sp.material.metallic;
+    out.base = sp.material.base;
+    let v = sp.to_local(-primary.d);
+    if !(sp.material.roughness <= p.max_roughness) || !(v.z > 0.0) {
+        return out;
+    }
+    out.glossy = 1;
+    let alpha = sp.material.roughness * sp.material.roughness;
+    let f0 = Vec3::new(0.04, 0.04, 0.04) + (sp.material.base - Vec3::new(0.04, 0.04, 0.04)) * sp.material.metallic;
+    let one = Vec3::new(1.0, 1.0, 1.0);
+    let mut s = 0;
+    while s < r.spp {
+        let mut rng = sample_rng(r.seed ^ REFERENCE_SEED, pixel, r.sample_base + s);
+        let (u1, u2) = (rng.next_f32(), rng.next_f32());
+        s += 1;
+        out.samples = out.samples + 1.0;
+        let (l, w) = if sp.material.roughness == 0.0 {
+            (reflect(v, Vec3::new(0.0, 0.0, 1.0)), 1.0)
+        } else {
+            let rs = sample_vndf_heitz(v, alpha, alpha, u1, u2);
+            if !(rs.pdf > 0.0) || !(rs.wo.z > 0.0) {
+                continue;
+            }
+            (rs.wo, reflection_weight(v, rs.wo, alpha))
+        };
+        if !(l.z > 0.0) || !(w > 0.0) {
+            continue;
+        }
+        let f = schlick_rgb(v.dot((v + l).normalize()), f0, one);
+        let lw = sp.to_world(l);
+        let ray = Ray::new(offset_origin(sp.p, sp.ng, lw), lw);
+        let first = bvh::closest_hit(sc, &ray, f32::INFINITY);
+        out.rays = out.rays + 1.0;
+        let li = trace_path(sc, env, lut, r, ray, &mut rng);
+        out.rays = out.rays + li.rays;
+        let same = if first.tri == NONE {
+            true
+        } else {
+            out.rays = out.rays + 1.0;
+            visible_on_screen(sc, &r.camera, r.width, r.height, ray.at(first.t))
+        };
+        let on = if same && first.tri != NONE { li.color } else { p.fallback };
+        out.all = out.all + li.color * w;
+        out.onscreen = out.onscreen + on * w;
+        out.specular_all = out.specular_all + f.mul_elem(li.color) * w;
+        out.specular_onscreen = out.specular_onscreen + f.mul_elem(on) * w;
+        out.weight = out.weight + w;
+        if same {
+            out.weight_same = out.weight_same + w;
+        }
+    }
+    out
+}
