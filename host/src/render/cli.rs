@@ -2,6 +2,7 @@
 
 use super::environment::{self, EnvSpec};
 use super::scene::Scene;
+use super::gbuffer::Progress;
 use super::{CameraSpec, RenderInputs, ToneMap};
 use crate::energy::Compensation;
 use anyhow::{bail, Context, Result};
@@ -293,7 +294,11 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     let inputs = RenderInputs { scene: &s.words, env: &prep.env.words, lut: &prep.lut };
     let pixels = cmd.width as f64 * cmd.height as f64;
     let t_render = Instant::now();
-    let (img, time) = progressive(&cmd, "rendering", cmd.spp, |progress| super::render(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, progress))?;
+    let mut bar = Bar::new(&cmd);
+    bar.start("rendering", cmd.spp);
+    let rendered = super::render(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, |d| bar.update(d));
+    bar.finish();
+    let (img, time) = rendered?;
     let wall = t_render.elapsed().as_secs_f64();
     let compile = match &backend {
         Backend::Gpu(g) => g.compile_seconds(super::ENTRY),
@@ -339,76 +344,67 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     Ok(())
 }
 
-/// Run `work` (a progressive render of `total` samples) under a progress bar named `what`,
-/// showing samples/s; `work` gets the callback to call with the samples done.
-fn progressive<T>(cmd: &RenderCommand, what: &str, total: u32, work: impl FnOnce(&mut dyn FnMut(u32)) -> Result<T>) -> Result<T> {
-    let bar = if cmd.quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        let b = indicatif::ProgressBar::new(total as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} spp, {elapsed_precise} elapsed, eta {eta}")
-                .expect("valid template")
-                .progress_chars("=> "),
-        );
-        b.set_message(what.to_string());
-        b
-    };
-    let pixels = cmd.width as f64 * cmd.height as f64;
-    let t0 = Instant::now();
-    let r = work(&mut |done| {
-        bar.set_position(done as u64);
-        let dt = t0.elapsed().as_secs_f64();
-        bar.set_message(format!("{what}: {:.2} M samples/s", done as f64 * pixels / dt.max(1e-9) / 1e6));
-    });
-    bar.finish_and_clear();
-    r
+/// A progress bar per stage showing samples/s ([`super::gbuffer::Progress`]); hidden with
+/// `--quiet`.
+struct Bar {
+    quiet: bool,
+    pixels: f64,
+    what: String,
+    t0: Instant,
+    bar: indicatif::ProgressBar,
 }
 
-/// The reference EXR beside G-buffer `path`: `<stem>.reference.exr`.
-pub fn reference_path(path: &Path) -> PathBuf {
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "gbuffer".into());
-    path.with_file_name(format!("{stem}.reference.exr"))
+impl Bar {
+    fn new(cmd: &RenderCommand) -> Bar {
+        Bar { quiet: cmd.quiet, pixels: cmd.width as f64 * cmd.height as f64, what: String::new(), t0: Instant::now(), bar: indicatif::ProgressBar::hidden() }
+    }
+}
+
+impl super::gbuffer::Progress for Bar {
+    fn start(&mut self, what: &str, total: u32) {
+        self.what = what.to_string();
+        self.t0 = Instant::now();
+        self.bar = if self.quiet {
+            indicatif::ProgressBar::hidden()
+        } else {
+            let b = indicatif::ProgressBar::new(total as u64);
+            b.set_style(
+                indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} spp, {elapsed_precise} elapsed, eta {eta}")
+                    .expect("valid template")
+                    .progress_chars("=> "),
+            );
+            b.set_message(what.to_string());
+            b
+        };
+    }
+    fn update(&mut self, done: u32) {
+        self.bar.set_position(done as u64);
+        let dt = self.t0.elapsed().as_secs_f64();
+        self.bar.set_message(format!("{}: {:.2} M samples/s", self.what, done as f64 * self.pixels / dt.max(1e-9) / 1e6));
+    }
+    fn finish(&mut self) {
+        self.bar.finish_and_clear();
+    }
 }
 
 /// `--gbuffer`: render the previous frame's colour (when the camera moves), the G-buffer and
 /// the reference, and write them; returns the summary's `gbuffer` entry.
-fn export_gbuffer(
-    cmd: &RenderCommand,
-    path: &Path,
-    backend: &Backend,
-    prep: &Prepared,
-    inputs: &RenderInputs<'_>,
-    params: &RenderParams,
-    img: &super::RenderImage,
-) -> Result<serde_json::Value> {
-    use super::gbuffer::{render_gbuffer, ssr_camera, to_ssr, Frames};
-    use shader_core::pt::gbuffer::GBufferParams;
+fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Prepared, inputs: &RenderInputs<'_>, params: &RenderParams, img: &super::RenderImage) -> Result<serde_json::Value> {
+    use super::gbuffer::{export_frame, FrameSpec};
     let (w, h) = (cmd.width, cmd.height);
-    let previous = cmd.frame_camera(prep, -1)?.camera(w, h)?;
     let radius = prep.scene.bounds.bounding_sphere().1;
-    let near = (radius * 1e-3).max(1e-6);
-    let ssr_cam = ssr_camera(&params.camera, near)?;
-    let ssr_prev = ssr_camera(&previous, near)?;
-    let t0 = Instant::now();
-    let color = if previous == params.camera {
-        img.color.clone()
-    } else {
-        let p = RenderParams { camera: previous, ..*params };
-        let (prev_img, _) = progressive(cmd, "previous frame", cmd.spp, |progress| super::render(backend, inputs, &p, cmd.spp, cmd.spp_per_pass, progress))?;
-        prev_img.color
+    let spec = FrameSpec {
+        params: *params,
+        previous: cmd.frame_camera(prep, -1)?.camera(w, h)?,
+        spp: cmd.spp,
+        spp_per_pass: cmd.spp_per_pass,
+        reference_spp: cmd.reference_spp,
+        max_roughness: cmd.max_roughness,
+        fallback: prep.env.mean_radiance,
+        near: (radius * 1e-3).max(1e-6),
     };
-    let colour_s = t0.elapsed().as_secs_f64();
-    let m = prep.env.mean_radiance;
-    let gp = GBufferParams { render: *params, max_roughness: cmd.max_roughness, fallback: shader_core::Vec3::new(m[0], m[1], m[2]) };
-    let t1 = Instant::now();
-    let (sums, time) = progressive(cmd, "G-buffer + reference", cmd.reference_spp, |progress| {
-        render_gbuffer(backend, inputs, &gp, cmd.reference_spp, cmd.spp_per_pass, progress)
-    })?;
-    let wall = t1.elapsed().as_secs_f64();
-    let rays: f64 = sums.values.chunks_exact(shader_kernels::render::GBUFFER_STRIDE).map(|p| p[25] as f64).sum();
-    let ref_path = reference_path(path);
-    let info = crate::ssr::gbuffer::ReferenceFile {
+    let ref_path = super::gbuffer::reference_path(path);
+    let info = (cmd.reference_spp > 0).then(|| crate::ssr::gbuffer::ReferenceFile {
         file: ref_path.file_name().expect("a file name").to_string_lossy().into_owned(),
         samples: cmd.reference_spp,
         max_roughness: cmd.max_roughness,
@@ -419,29 +415,29 @@ fn export_gbuffer(
             cmd.compensation.label(),
             cmd.seed
         ),
-    };
-    let (gb, reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: m }, Some(info))?;
-    gb.save(path)?;
+    });
+    let e = export_frame(backend, inputs, &spec, Some(&img.color), info, &mut Bar::new(cmd))?;
+    e.gbuffer.save(path)?;
     let mut files = vec![path.display().to_string(), crate::ssr::gbuffer::camera_path(path).display().to_string()];
-    if let Some(r) = &reference {
+    if let Some(r) = &e.reference {
         r.save(&ref_path)?;
         files.push(ref_path.display().to_string());
     }
-    let glossy = reference.as_ref().map(|r| r.glossy.iter().filter(|g| **g).count()).unwrap_or(0);
+    let glossy = e.reference.as_ref().map(|r| r.glossy.iter().filter(|g| **g).count()).unwrap_or(0);
     eprintln!(
         "G-buffer{}: {:.3} s ({}; wall {:.3} s, {:.3} M rays/s), {} glossy pixels{}; wrote {}",
         if cmd.reference_spp > 0 { format!(" + reference ({} samples per glossy pixel)", cmd.reference_spp) } else { String::new() },
-        time.seconds,
-        time.source,
-        wall,
-        rays / wall.max(1e-9) / 1e6,
+        e.gbuffer_time.seconds,
+        e.gbuffer_time.source,
+        e.gbuffer_wall,
+        e.rays / e.gbuffer_wall.max(1e-9) / 1e6,
         glossy,
-        if colour_s > 0.01 { format!("; previous frame's colour {colour_s:.3} s") } else { String::new() },
+        if e.previous_seconds > 0.0 { format!("; previous frame's colour {:.3} s", e.previous_seconds) } else { String::new() },
         files.join(", ")
     );
     Ok(serde_json::json!({
         "files": files, "reference_spp": cmd.reference_spp, "max_roughness": cmd.max_roughness,
-        "fallback": m, "near": near, "glossy_pixels": glossy, "seconds": time.seconds, "wall_seconds": wall,
-        "rays": rays, "previous_frame_seconds": colour_s,
+        "fallback": spec.fallback, "near": spec.near, "glossy_pixels": glossy, "seconds": e.gbuffer_time.seconds, "wall_seconds": e.gbuffer_wall,
+        "rays": e.rays, "previous_frame_seconds": e.previous_seconds,
     }))
 }

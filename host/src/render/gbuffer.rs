@@ -20,8 +20,10 @@ use crate::ssr::gbuffer::{GBuffer, ReferenceFile};
 use crate::ssr::reference::Reference;
 use anyhow::{bail, Context, Result};
 use runner::{Backend, Timing, TimingSource};
+use std::path::{Path, PathBuf};
 use shader_core::pt::camera::{Camera, ORTHOGRAPHIC};
 use shader_core::pt::gbuffer::GBufferParams;
+use shader_core::pt::integrator::RenderParams;
 use shader_kernels::render::{GBufferArgs, GBUFFER_STRIDE};
 
 /// The kernel's entry point.
@@ -206,4 +208,98 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
     }
     gb.validate().context("the exported G-buffer")?;
     Ok((gb, (g.samples > 0).then_some(r)))
+}
+
+/// Progress of a long export, told per stage (the CLI shows a bar, a benchmark nothing).
+pub trait Progress {
+    /// A stage of `total` samples starts.
+    fn start(&mut self, what: &str, total: u32);
+    /// `done` samples of the stage are done.
+    fn update(&mut self, done: u32);
+    /// The stage ended.
+    fn finish(&mut self);
+}
+
+/// [`Progress`] that shows nothing.
+pub struct Quiet;
+
+impl Progress for Quiet {
+    fn start(&mut self, _: &str, _: u32) {}
+    fn update(&mut self, _: u32) {}
+    fn finish(&mut self) {}
+}
+
+/// One exported frame's settings.
+#[derive(Clone, Debug)]
+pub struct FrameSpec {
+    /// The render's parameters with this frame's camera (`spp` is ignored: see `spp`).
+    pub params: RenderParams,
+    /// The previous frame's camera (its colour is the G-buffer's colour buffer).
+    pub previous: Camera,
+    /// Colour samples per pixel of the previous frame's render, in launches of `spp_per_pass`.
+    pub spp: u32,
+    pub spp_per_pass: u32,
+    /// Reference samples per glossy pixel (0: no reference).
+    pub reference_spp: u32,
+    /// Perceptual roughness cut-off of the reference.
+    pub max_roughness: f32,
+    /// The environment's mean radiance: the on-screen reference's fallback.
+    pub fallback: [f32; 3],
+    /// The SSR cameras' near plane.
+    pub near: f32,
+}
+
+/// An exported frame with its costs.
+pub struct Exported {
+    pub gbuffer: GBuffer,
+    pub reference: Option<Reference>,
+    /// The G-buffer kernel's time (GPU timestamps or wall clock) and wall clock, seconds.
+    pub gbuffer_time: Timing,
+    pub gbuffer_wall: f64,
+    /// Rays the G-buffer kernel traced.
+    pub rays: f64,
+    /// Seconds spent rendering the previous frame's colour (0 when `current_colour` was used).
+    pub previous_seconds: f64,
+}
+
+/// Export one frame: the previous frame's colour (rendered, unless the camera did not move and
+/// `current_colour`, this frame's image, is given), the G-buffer and, with reference samples,
+/// the reference; `reference` names the reference entry the G-buffer's JSON will carry.
+pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSpec, current_colour: Option<&[f32]>, reference: Option<ReferenceFile>, progress: &mut dyn Progress) -> Result<Exported> {
+    let (w, h) = (spec.params.width, spec.params.height);
+    let ssr_cam = ssr_camera(&spec.params.camera, spec.near)?;
+    let ssr_prev = ssr_camera(&spec.previous, spec.near)?;
+    let t0 = std::time::Instant::now();
+    let color = match current_colour {
+        Some(c) if spec.previous == spec.params.camera => {
+            if c.len() != 3 * w as usize * h as usize {
+                bail!("the current frame's colour has {} values, the frame {}x{} needs {}", c.len(), w, h, 3 * w as usize * h as usize);
+            }
+            c.to_vec()
+        }
+        _ => {
+            let p = RenderParams { camera: spec.previous, ..spec.params };
+            progress.start("previous frame", spec.spp);
+            let r = super::render(backend, inputs, &p, spec.spp, spec.spp_per_pass, |d| progress.update(d));
+            progress.finish();
+            r?.0.color
+        }
+    };
+    let previous_seconds = if current_colour.is_some() && spec.previous == spec.params.camera { 0.0 } else { t0.elapsed().as_secs_f64() };
+    let gp = GBufferParams { render: spec.params, max_roughness: spec.max_roughness, fallback: shader_core::Vec3::new(spec.fallback[0], spec.fallback[1], spec.fallback[2]) };
+    let t1 = std::time::Instant::now();
+    progress.start("G-buffer + reference", spec.reference_spp);
+    let r = render_gbuffer(backend, inputs, &gp, spec.reference_spp, spec.spp_per_pass, |d| progress.update(d));
+    progress.finish();
+    let (sums, gbuffer_time) = r?;
+    let gbuffer_wall = t1.elapsed().as_secs_f64();
+    let rays: f64 = sums.values.chunks_exact(GBUFFER_STRIDE).map(|p| p[GBUFFER_STRIDE - 1] as f64).sum();
+    let (gbuffer, reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: spec.fallback }, reference)?;
+    Ok(Exported { gbuffer, reference, gbuffer_time, gbuffer_wall, rays, previous_seconds })
+}
+
+/// The reference EXR beside G-buffer `path`: `<stem>.reference.exr`.
+pub fn reference_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "gbuffer".into());
+    path.with_file_name(format!("{stem}.reference.exr"))
 }

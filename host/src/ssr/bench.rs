@@ -11,7 +11,9 @@ use super::metrics::{composite, tonemap};
 use super::pipeline::{run_hdrp, HdrpResolve, SsrResult, SsrSettings, TraceMode, VndfSampler};
 use super::reference::{render_reference, Reference};
 use super::scene::scene;
-use super::sssr::{run_sssr, Reprojection, SssrSettings};
+use super::gbuffer::GBuffer;
+use super::gltf_scenes::GltfScene;
+use super::sssr::{run_sssr, FrameSequence, FrameSource, Reprojection, SssrSettings};
 use super::metrics::figure;
 use crate::cli_args::pixels;
 use crate::{Backend, DeviceChoice};
@@ -21,19 +23,34 @@ use std::path::{Path, PathBuf};
 
 #[derive(Clone, Debug, clap::Args)]
 pub struct BenchArgs {
-    /// Scenes, comma separated.
-    #[arg(long, default_value = "floor,hallway,thin,animated")]
+    /// Scenes, comma separated: built-in (floor, hallway, thin, animated) and glTF scenes made by
+    /// the project and path traced (cornell, pillars, orbit; `ssr::gltf_scenes`).
+    #[arg(long, default_value = "floor,hallway,thin,animated,cornell,pillars,orbit")]
     pub scenes: String,
+    /// Configurations to run, by their numbers in the report (1-based, comma separated; the
+    /// plot's legend lists them); default all.
+    #[arg(long)]
+    pub configs: Option<String>,
+    /// glTF scenes: where their files and exported G-buffers go (exports are reused when their
+    /// settings match).
+    #[arg(long, default_value = "out/ssr-scenes")]
+    pub scene_dir: PathBuf,
+    /// glTF scenes: the shared Cornell box the `cornell` scene is made from.
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf"))]
+    pub cornell: PathBuf,
+    /// glTF scenes: path-traced samples per pixel of the colour buffer (the previous frame).
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub colour_spp: u32,
     /// Image width in pixels (1 to 4096).
     #[arg(long, default_value_t = 192, value_parser = pixels)]
     pub width: usize,
     /// Image height in pixels (1 to 4096).
     #[arg(long, default_value_t = 192, value_parser = pixels)]
     pub height: usize,
-    /// Reference rays per glossy pixel, at least 1.
+    /// Reference rays per glossy pixel, at least 1 (glTF scenes: path-traced samples).
     #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub reference_samples: u32,
-    /// Frame of the animated scene's camera path (temporal runs end there).
+    /// Frame of the animated scenes' camera paths (temporal runs end there).
     #[arg(long, default_value_t = 20)]
     pub frame: u32,
     /// Also time every configuration on the GPU backend: auto = any Vulkan adapter, lavapipe
@@ -109,12 +126,177 @@ pub fn configs() -> Vec<Config> {
     v
 }
 
-/// Run one configuration.
-pub fn run_config(backend: &Backend, sc: &super::scene::Scene, gb: &super::GBuffer, s: &SsrSettings, c: &Config, frame: u32) -> Result<SsrResult> {
+/// Run one configuration; temporal runs take their earlier frames from `source`.
+pub fn run_config(backend: &Backend, source: &dyn FrameSource, gb: &super::GBuffer, s: &SsrSettings, c: &Config, frame: u32) -> Result<SsrResult> {
+    run_config_frames(backend, source, gb, s, c, frame, None)
+}
+
+/// [`run_config`] with the number of temporal frames overridden by `frames` (e.g. 2 to time
+/// one temporal frame, or to measure a camera cut).
+pub fn run_config_frames(backend: &Backend, source: &dyn FrameSource, gb: &super::GBuffer, s: &SsrSettings, c: &Config, frame: u32, frames: Option<u32>) -> Result<SsrResult> {
     match c {
         Config::Hdrp(t, r) => run_hdrp(backend, gb, s, *t, *r),
-        Config::Sssr(t, smp) => run_sssr(backend, Some(sc), gb, &SsrSettings { sampler: *smp, ..s.clone() }, t, frame, t.temporal_frames),
+        Config::Sssr(t, smp) => run_sssr(backend, Some(source), gb, &SsrSettings { sampler: *smp, ..s.clone() }, t, frame, frames.unwrap_or(t.temporal_frames)),
     }
+}
+
+/// One scene of the benchmark, ready to run.
+pub struct BenchInput {
+    pub name: String,
+    /// The G-buffer of the measured frame.
+    pub gbuffer: GBuffer,
+    pub reference: Reference,
+    /// What a reflection that finds nothing returns (the reference's fallback).
+    pub sky: [f32; 3],
+    /// The measured frame of the camera path (0 for static cameras).
+    pub frame: u32,
+    /// Whether the camera moves (no temporal-stability figure then).
+    pub animated: bool,
+    /// The G-buffers of earlier frames for temporal runs.
+    pub frames: Box<dyn FrameSource>,
+    /// Another view of the scene: the frames before a camera cut to the measured frame.
+    pub cut_from: GBuffer,
+    /// How the inputs were made.
+    pub provenance: String,
+}
+
+/// A built-in scene at the bench's size: its G-buffer, its ray-traced reference; the camera
+/// cut comes from the next built-in scene (another room entirely).
+pub fn builtin_input(name: &str, a: &BenchArgs) -> Result<BenchInput> {
+    let sc = scene(name)?;
+    let frame = if sc.animated() { a.frame } else { 0 };
+    let gb = sc.render_gbuffer(a.width, a.height, frame);
+    gb.validate()?;
+    let min_smoothness = SsrSettings::default().min_smoothness;
+    let t0 = std::time::Instant::now();
+    let reference = render_reference(&sc, &gb, 1.0 - min_smoothness, a.reference_samples);
+    let other = super::scene::SCENES.iter().cycle().skip_while(|n| **n != name).nth(1).copied().unwrap_or("floor");
+    let cut_from = scene(other)?.render_gbuffer(a.width, a.height, 0);
+    Ok(BenchInput {
+        name: name.into(),
+        sky: sc.sky,
+        frame,
+        animated: sc.animated(),
+        provenance: format!("built-in analytic scene, ray-traced reference ({} rays per glossy pixel, {:.1} s); camera cut from `{other}`", reference.samples, t0.elapsed().as_secs_f64()),
+        gbuffer: gb,
+        reference,
+        frames: Box::new(sc),
+        cut_from,
+    })
+}
+
+/// A glTF scene of [`super::gltf_scenes`]: written to `--scene-dir`, loaded, and path traced
+/// by the G-buffer export of `host render --gbuffer` on `backend` (the measured frame with its
+/// reference; on a camera path the 15 frames before it; a view turned by 40 degrees for the
+/// camera cut). Exports are stored in `--scene-dir` and reused when their settings match.
+pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32]) -> Result<BenchInput> {
+    use crate::render::environment::{self, EnvSpec};
+    use crate::render::gbuffer::{export_frame, orbit, reference_path, FrameSpec, Quiet};
+    use crate::render::scene::Scene as RenderScene;
+    use crate::render::{CameraSpec, RenderInputs};
+    use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
+    let t0 = std::time::Instant::now();
+    let path = which.write(&a.scene_dir, &a.cornell)?;
+    let sc = RenderScene::load(&path).with_context(|| format!("loading {}", path.display()))?;
+    if !sc.warnings.is_empty() {
+        anyhow::bail!("{}: the project's own scene loads with warnings: {}", path.display(), sc.warnings.join("; "));
+    }
+    let env = environment::build(&EnvSpec::Uniform(which.sky()), 1.0, 0.0)?;
+    let base = CameraSpec::from_desc(sc.cameras.first().with_context(|| format!("{}: no camera", path.display()))?);
+    let pivot = sc.bounds.bounding_sphere().0;
+    let near = (sc.bounds.bounding_sphere().1 * 1e-3).max(1e-6);
+    let frame = if which.orbit().is_some() { a.frame } else { 0 };
+    let camera_at = |degrees: f64| -> Result<shader_core::pt::camera::Camera> {
+        orbit(&base, pivot, degrees).camera(a.width as u32, a.height as u32)
+    };
+    let angle = |f: i64| which.orbit().map(|d| f as f64 * d).unwrap_or(0.0);
+    let inputs = RenderInputs { scene: &sc.words, env: &env.words, lut };
+    let params = |cam| RenderParams {
+        width: a.width as u32,
+        height: a.height as u32,
+        spp: 1,
+        sample_base: 0,
+        seed: 0,
+        max_depth: 8,
+        rr_depth: 3,
+        strategy: STRATEGY_MIS,
+        compensation: crate::energy::Compensation::Turquin.id(),
+        clamp: 0.0,
+        p_env: if sc.has_lights() { 0.5 } else { 1.0 },
+        camera: cam,
+    };
+    let max_roughness = 1.0 - SsrSettings::default().min_smoothness;
+    // One exported frame at `degrees` (previous frame at `previous_degrees`), reused from disk
+    // when a file of the same settings exists.
+    let export = |tag: &str, degrees: f64, previous_degrees: f64, reference_spp: u32| -> Result<(GBuffer, Option<Reference>)> {
+        let file = a.scene_dir.join(format!("{}-{}x{}-{tag}-c{}-r{}.exr", which.name(), a.width, a.height, a.colour_spp, reference_spp));
+        if file.exists() {
+            let g = GBuffer::load(&file)?;
+            let r = match (g.reference_path(&file), &g.reference) {
+                (Some(rp), Some(info)) => Some(Reference::load(&rp, g.width, g.height, info.samples)?),
+                _ => None,
+            };
+            if r.is_some() == (reference_spp > 0) {
+                return Ok((g, r));
+            }
+        }
+        let spec = FrameSpec {
+            params: params(camera_at(degrees)?),
+            previous: camera_at(previous_degrees)?,
+            spp: a.colour_spp,
+            spp_per_pass: a.colour_spp.min(8),
+            reference_spp,
+            max_roughness,
+            fallback: env.mean_radiance,
+            near,
+        };
+        let rp = reference_path(&file);
+        let info = (reference_spp > 0).then(|| super::gbuffer::ReferenceFile {
+            file: rp.file_name().expect("a file name").to_string_lossy().into_owned(),
+            samples: reference_spp,
+            max_roughness,
+            method: "path traced (MIS, max depth 8, Turquin compensation, seed 0); fallback = the environment's radiance".into(),
+        });
+        let t = std::time::Instant::now();
+        let e = export_frame(backend, &inputs, &spec, None, info, &mut Quiet)?;
+        eprintln!("  exported {} in {:.1} s ({:.2} M rays/s in the G-buffer pass)", file.display(), t.elapsed().as_secs_f64(), e.rays / e.gbuffer_wall.max(1e-9) / 1e6);
+        e.gbuffer.save(&file)?;
+        if let Some(r) = &e.reference {
+            r.save(&rp)?;
+        }
+        Ok((e.gbuffer, e.reference))
+    };
+    let f = frame as i64;
+    let (gb, reference) = export("main", angle(f), angle(f - 1), a.reference_samples)?;
+    let reference = reference.context("the measured frame's reference")?;
+    let mut seq = Vec::new();
+    if which.orbit().is_some() {
+        for k in (f - 15).max(0)..f {
+            seq.push(export(&format!("f{k}"), angle(k), angle(k - 1), 0)?.0);
+        }
+    }
+    let cut = angle(f) - 40.0;
+    let (cut_from, _) = export("cut", cut, cut, 0)?;
+    Ok(BenchInput {
+        name: which.name().into(),
+        sky: gb.fallback,
+        frame,
+        animated: which.orbit().is_some(),
+        provenance: format!(
+            "glTF scene `{}` ({} triangles) path traced on the {} backend: colour {} spp, reference {} samples per glossy pixel{}; camera cut from a view turned by 40 degrees; inputs ready in {:.1} s",
+            path.display(),
+            sc.counts.triangles,
+            if matches!(backend, Backend::Cpu) { "CPU" } else { "GPU" },
+            a.colour_spp,
+            a.reference_samples,
+            which.orbit().map(|d| format!("; camera orbiting {d} degrees per frame, frame {frame}")).unwrap_or_default(),
+            t0.elapsed().as_secs_f64()
+        ),
+        gbuffer: gb,
+        reference,
+        frames: Box::new(FrameSequence { first: (f - 15).max(0) as u32, frames: seq }),
+        cut_from,
+    })
 }
 
 /// FLIP (NVIDIA, Andersson et al. 2020) mean error between two tone-mapped RGB images (pixels
@@ -138,6 +320,8 @@ pub fn flip_mean(a: &[f32], b: &[f32], mask: &[bool], w: usize, h: usize) -> f32
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Row {
     pub scene: String,
+    /// The configuration's number (`--configs`).
+    pub number: usize,
     pub config: String,
     pub errors: Errors,
     /// Against the on-screen reference over glossy, non-mirror pixels (where sampling matters).
@@ -146,6 +330,10 @@ pub struct Row {
     /// Specular (composite x FG) against the reference's specular integral, on-screen reference,
     /// glossy pixels.
     pub specular: super::metrics::ErrorStats,
+    /// Temporal stability on a static camera ([`flicker`]); `None` for a moving camera.
+    pub flicker: Option<f64>,
+    /// Temporal rows: on-screen relative RMSE of the first frame after a camera cut.
+    pub after_cut_rel: Option<f64>,
     pub cpu_ms: f64,
     pub cpu_passes: String,
     pub gpu_ms: Option<f64>,
@@ -161,46 +349,109 @@ fn passes(r: &SsrResult) -> (f64, String) {
     (total, s)
 }
 
-/// Measure every configuration on one scene.
-pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchArgs, lut: &[f32]) -> Result<(Vec<Row>, Reference)> {
-    let sc = scene(name)?;
-    let frame = if sc.animated() { a.frame } else { 0 };
-    let gb = sc.render_gbuffer(a.width, a.height, frame);
-    gb.validate()?;
+/// Relative frame-to-frame change of the composite over the reference's glossy pixels:
+/// RMS(composite_k - composite_k-1) / RMS(reference) (temporal stability: 0 = no flicker).
+pub fn flicker(a: &[f32], b: &[f32], input: &BenchInput) -> f64 {
+    let (ca, cb) = (composite(a, input.sky), composite(b, input.sky));
+    let r = &input.reference;
+    let (mut d2, mut r2) = (0.0f64, 0.0f64);
+    for i in 0..r.glossy.len() {
+        if r.glossy[i] {
+            for c in 0..3 {
+                d2 += (f64::from(ca[3 * i + c]) - f64::from(cb[3 * i + c])).powi(2);
+                r2 += f64::from(r.onscreen[3 * i + c]).powi(2);
+            }
+        }
+    }
+    if r2 > 0.0 {
+        (d2 / r2).sqrt()
+    } else {
+        f64::NAN
+    }
+}
+
+/// Selected configurations (`--configs`), numbered from 1.
+pub fn selected_configs(a: &BenchArgs) -> Result<Vec<(usize, Config)>> {
+    let all: Vec<(usize, Config)> = configs().into_iter().enumerate().map(|(i, c)| (i + 1, c)).collect();
+    let Some(list) = &a.configs else { return Ok(all) };
+    let mut v = Vec::new();
+    for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let n: usize = item.parse().with_context(|| format!("--configs: {item:?} is not a configuration number"))?;
+        let c = all.iter().find(|(i, _)| *i == n).with_context(|| format!("--configs: no configuration {n} (1 to {})", all.len()))?;
+        v.push(c.clone());
+    }
+    anyhow::ensure!(!v.is_empty(), "--configs selects nothing");
+    Ok(v)
+}
+
+/// Measure the selected configurations on one scene.
+pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: &BenchArgs, lut: &[f32]) -> Result<Vec<Row>> {
+    let (name, gb, reference, sky, frame) = (input.name.as_str(), &input.gbuffer, &input.reference, input.sky, input.frame);
+    let src = input.frames.as_ref();
     let s = SsrSettings { frame, ..SsrSettings::default() };
-    let reference = render_reference(&sc, &gb, 1.0 - s.min_smoothness, a.reference_samples);
     // The specular column's inputs, the same for every configuration.
-    let spec_consts = super::pipeline::build_params(&gb, &s)?;
+    let spec_consts = super::pipeline::build_params(gb, &s)?;
     let packed = gb.packed();
     let mut rows = Vec::new();
-    for c in configs() {
-        let res = run_config(cpu, &sc, &gb, &s, &c, frame)?;
-        let e = errors(&res, &reference, sc.sky);
+    for (number, c) in selected_configs(a)? {
+        let res = run_config(cpu, src, gb, &s, &c, frame)?;
+        let e = errors(&res, reference, sky);
         let mut rough_ref = reference.clone();
         for (i, g) in rough_ref.glossy.iter_mut().enumerate() {
             *g = *g && gb.roughness[i] >= shader_core::ssr::stochastic::MIRROR_ROUGHNESS;
         }
-        let rough = errors(&res, &rough_ref, sc.sky).algorithm;
-        let comp = composite(&res.reflection, sc.sky);
+        let rough = errors(&res, &rough_ref, sky).algorithm;
+        let comp = composite(&res.reflection, sky);
         // FLIP of an empty mask compares two black images: not a measurement.
         let flip = if e.all.pixels > 0 { flip_mean(&comp, &reference.all, &reference.glossy, gb.width, gb.height) } else { f32::NAN };
         let comp4: Vec<f32> = comp.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
         let spec = super::pipeline::Runner::new(cpu).specular(&spec_consts, &packed, &gb.base_color, lut, &comp4)?;
         let spec_rgb: Vec<f32> = spec.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]]).collect();
         let specular = super::metrics::error(&spec_rgb, &reference.specular_onscreen, &reference.glossy);
+        let temporal = matches!(&c, Config::Sssr(t, _) if t.temporal_frames > 1);
+        // Temporal stability on a static camera: the last two frames of a temporal run, or two
+        // single frames with different random numbers.
+        let stability = if input.animated {
+            None
+        } else if let Some(prev) = &res.previous_reflection {
+            Some(flicker(&res.reflection, prev, input))
+        } else {
+            let s2 = SsrSettings { frame: frame + 1, ..s.clone() };
+            let other = run_config(cpu, src, gb, &s2, &c, frame + 1)?;
+            Some(flicker(&res.reflection, &other.reflection, input))
+        };
+        // Ghosting: the first frame after a cut from another view, its history built over
+        // `temporal_frames - 1` frames of that view.
+        let after_cut = if let (true, Config::Sssr(t, _)) = (temporal, &c) {
+            let before = FrameSequence { first: 0, frames: vec![input.cut_from.clone(); t.temporal_frames as usize - 1] };
+            let r = run_config_frames(cpu, &before, gb, &SsrSettings { frame: t.temporal_frames - 1, ..s.clone() }, &c, t.temporal_frames - 1, None)?;
+            Some(errors(&r, reference, sky).onscreen.rel)
+        } else {
+            None
+        };
         let (cpu_ms, cpu_passes) = passes(&res);
         let (mut gpu_ms, mut gpu_passes, mut bit_exact) = (None, None, None);
         if let Some(g) = gpu {
-            // The first dispatch of an entry point includes the driver's shader compilation: warm up.
-            let _ = run_config(g, &sc, &gb, &s, &c, frame).with_context(|| format!("{name} {} on the GPU", c.label()))?;
-            let rg = run_config(g, &sc, &gb, &s, &c, frame).with_context(|| format!("{name} {} on the GPU", c.label()))?;
+            // Temporal rows are timed and compared over two frames (the last frame's passes
+            // are what one frame costs); the first dispatch of an entry point includes the
+            // driver's shader compilation: warm up.
+            let frames = temporal.then_some(2);
+            let cpu_ref;
+            let cref = if temporal {
+                cpu_ref = run_config_frames(cpu, src, gb, &s, &c, frame, frames)?;
+                &cpu_ref
+            } else {
+                &res
+            };
+            let _ = run_config_frames(g, src, gb, &s, &c, frame, Some(1)).with_context(|| format!("{name} {} on the GPU", c.label()))?;
+            let rg = run_config_frames(g, src, gb, &s, &c, frame, frames).with_context(|| format!("{name} {} on the GPU", c.label()))?;
             let (t, p) = passes(&rg);
             gpu_ms = Some(t);
             gpu_passes = Some(p);
             bit_exact = Some(
-                rg.reflection.len() == res.reflection.len()
-                    && rg.reflection.iter().zip(&res.reflection).all(|(x, y)| x.to_bits() == y.to_bits())
-                    && rg.rays.iter().zip(&res.rays).all(|(x, y)| x.to_bits() == y.to_bits()),
+                rg.reflection.len() == cref.reflection.len()
+                    && rg.reflection.iter().zip(&cref.reflection).all(|(x, y)| x.to_bits() == y.to_bits())
+                    && rg.rays.iter().zip(&cref.rays).all(|(x, y)| x.to_bits() == y.to_bits()),
             );
         }
         let (tiles_skipped, pixels_skipped) = match &res.tiles {
@@ -211,22 +462,27 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
             None => (None, None),
         };
         eprintln!(
-            "  {name:<8} {:<26} on-screen rel {}  rough rel {}  all rel {}  FLIP {:.4}  CPU {:.1} ms{}",
+            "  {name:<8} {number:>2} {:<26} on-screen rel {}  rough rel {}  all rel {}  FLIP {:.4}  flicker {}  after cut {}  CPU {:.1} ms{}",
             c.label(),
             figure(e.onscreen.rel, 3),
             figure(rough.rel, 3),
             figure(e.all.rel, 3),
             flip,
+            stability.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
+            after_cut.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
             cpu_ms,
             gpu_ms.map(|t| format!("  GPU {t:.1} ms")).unwrap_or_default()
         );
         rows.push(Row {
             scene: name.into(),
+            number,
             config: c.label(),
             errors: e,
             rough,
             flip,
             specular,
+            flicker: stability,
+            after_cut_rel: after_cut,
             cpu_ms,
             cpu_passes,
             gpu_ms,
@@ -236,7 +492,7 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, name: &str, a: &BenchAr
             pixels_skipped,
         });
     }
-    Ok((rows, reference))
+    Ok(rows)
 }
 
 /// `host ssr bench`.
@@ -257,9 +513,16 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let mut refs = Vec::new();
     for name in a.scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         eprintln!("scene {name}:");
-        let (rows, r) = bench_scene(&cpu, gpu.as_ref(), name, a, &lut)?;
+        let input = match GltfScene::by_name(name) {
+            Some(g) => gltf_input(g, a, gpu.as_ref().unwrap_or(&cpu), &lut)?,
+            None if super::scene::SCENES.contains(&name) => builtin_input(name, a)?,
+            None => anyhow::bail!("--scenes: unknown scene {name:?}; built-in: {}; glTF: {}", super::scene::SCENES.join(", "), super::gltf_scenes::NAMES.join(", ")),
+        };
+        eprintln!("  {}", input.provenance);
+        let rows = bench_scene(&cpu, gpu.as_ref(), &input, a, &lut)?;
+        let r = &input.reference;
         let on = r.glossy.iter().zip(&r.onscreen_fraction).filter(|(g, f)| **g && **f >= 0.999).count();
-        refs.push((name.to_string(), r.glossy.iter().filter(|g| **g).count(), on));
+        refs.push(SceneInfo { name: name.to_string(), glossy: r.glossy.iter().filter(|g| **g).count(), onscreen: on, provenance: input.provenance.clone() });
         all.extend(rows);
     }
     let md = report(a, &all, &refs, gpu_name.as_deref());
@@ -272,17 +535,29 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Option<&str>) -> String {
+/// What the report says about one scene.
+pub struct SceneInfo {
+    pub name: String,
+    /// Glossy pixels, and those whose reference rays all stay on screen.
+    pub glossy: usize,
+    pub onscreen: usize,
+    pub provenance: String,
+}
+
+fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "## Measured comparison (`host ssr bench`)\n");
     let _ = writeln!(
         s,
-        "Command: `cargo run --release -p host -- ssr bench --width {} --height {} --reference-samples {} --frame {} --report {} --plot {}` \
+        "Command: `cargo run --release -p host -- ssr bench --scenes {} --width {} --height {} --reference-samples {} --colour-spp {} --frame {}{} --report {} --plot {}` \
          ({}x{} pixels; reference: {} rays per glossy pixel).\n",
+        a.scenes,
         a.width,
         a.height,
         a.reference_samples,
+        a.colour_spp,
         a.frame,
+        a.configs.as_ref().map(|c| format!(" --configs {c}")).unwrap_or_default(),
         a.report.display(),
         a.plot_path().display(),
         a.width,
@@ -301,22 +576,28 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
          (Fresnel inside the integral; on-screen reference, glossy pixels); times are the sum over passes \
          (CPU: wall clock; GPU: timestamp queries; temporal rows: the last frame); **skipped** = fraction of \
          8x8 tiles skipped / of pixels that traced no ray; **bits** = CPU and GPU reflections and ray records \
-         identical.\n"
+         identical (temporal rows: over two frames); **flicker** = temporal stability on a static camera, \
+         RMS of the change of the composite between the last two frames (two independent frames for \
+         single-frame configurations) over the RMS of the reference, glossy pixels (- for a moving camera); \
+         **after cut** = on-screen relative RMSE of the first frame after a camera cut, its history \
+         accumulated over 15 frames of another view (ghosting: compare with on-screen rel).\n"
     );
-    for (scene, glossy, on) in refs {
+    for SceneInfo { name: scene, glossy, onscreen: on, provenance } in refs {
         if *glossy == 0 {
             let _ = writeln!(s, "### {scene}: no glossy pixels: nothing measured (errors n/a)\n");
         }
         let _ = writeln!(s, "### {scene} ({glossy} glossy pixels, {on} with all reference rays on screen)\n");
+        let _ = writeln!(s, "Inputs: {provenance}.\n");
         let _ = writeln!(
             s,
-            "| configuration | on-screen RMSE | on-screen rel | non-mirror rel | all glossy RMSE | all glossy rel | FLIP | specular rel | CPU ms | GPU ms | skipped tiles / pixels | bits |"
+            "| # | configuration | on-screen RMSE | on-screen rel | non-mirror rel | all glossy RMSE | all glossy rel | FLIP | specular rel | flicker | after cut | CPU ms | GPU ms | skipped tiles / pixels | bits |"
         );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for r in rows.iter().filter(|r| &r.scene == scene) {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
+                r.number,
                 r.config,
                 figure(r.errors.onscreen.rmse, 4),
                 figure(r.errors.onscreen.rel, 3),
@@ -325,6 +606,8 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
                 figure(r.errors.all.rel, 3),
                 figure(f64::from(r.flip), 4),
                 figure(r.specular.rel, 3),
+                r.flicker.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
+                r.after_cut_rel.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
                 r.cpu_ms,
                 r.gpu_ms.map(|t| format!("{t:.1}")).unwrap_or_else(|| "-".into()),
                 match (r.tiles_skipped, r.pixels_skipped) {
@@ -353,16 +636,13 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[(String, usize, usize)], gpu: Opt
 /// measured are left out.
 fn plot(path: &Path, rows: &[Row], gpu: Option<&str>) -> Result<()> {
     use crate::plot::{Axis, Plot, Series};
-    let mut configs: Vec<&str> = Vec::new();
+    let mut configs: Vec<(usize, &str)> = Vec::new();
     let mut series: Vec<Series> = Vec::new();
     for r in rows {
-        let n = match configs.iter().position(|c| *c == r.config) {
-            Some(i) => i + 1,
-            None => {
-                configs.push(&r.config);
-                configs.len()
-            }
-        };
+        let n = r.number;
+        if !configs.iter().any(|(k, _)| *k == n) {
+            configs.push((n, &r.config));
+        }
         let p = (r.gpu_ms.unwrap_or(r.cpu_ms), r.errors.onscreen.rel);
         match series.iter_mut().find(|s| s.label == r.scene) {
             Some(s) => {
@@ -372,7 +652,8 @@ fn plot(path: &Path, rows: &[Row], gpu: Option<&str>) -> Result<()> {
             None => series.push(Series { point_labels: vec![n.to_string()], ..Series::scatter(&r.scene, vec![p]) }),
         }
     }
-    let legend: Vec<String> = configs.iter().enumerate().map(|(i, c)| format!("{} = {c}", i + 1)).collect();
+    configs.sort();
+    let legend: Vec<String> = configs.iter().map(|(i, c)| format!("{i} = {c}")).collect();
     let footnotes = vec![
         format!("Configurations: {}.", legend.join("; ")),
         match gpu {

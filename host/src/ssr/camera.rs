@@ -173,8 +173,12 @@ impl Camera {
     /// The motion vector UV(this camera) - UV(`previous`) of screen point (sx, sy) (pixels):
     /// of world point `point`, or for the sky (`None`) of the direction through (sx, sy)
     /// (a point at infinity, which only the rotation moves); 0 where the previous camera does
-    /// not see it in front.
+    /// not see it in front, and exactly 0 when the two cameras are equal.
     pub fn motion(&self, previous: &Camera, width: usize, height: usize, sx: f64, sy: f64, point: Option<V3>) -> [f32; 2] {
+        // An unmoved camera moves nothing (exactly: no unproject/reproject round-off).
+        if previous == self {
+            return [0.0, 0.0];
+        }
         let v = match point {
             Some(p) => previous.to_view(p),
             None => {

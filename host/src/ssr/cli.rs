@@ -257,7 +257,7 @@ pub fn run_pipeline(backend: &Backend, input: &Input, a: &RunArgs) -> Result<Ssr
         PipelineChoice::Hdrp => run_hdrp(backend, &input.gbuffer, &s, parse_trace(&a.trace)?, parse_resolve(&a.resolve)?),
         PipelineChoice::Sssr => {
             let frames = a.sssr().temporal_frames.max(1);
-            run_sssr(backend, input.scene.as_ref(), &input.gbuffer, &s, &a.sssr(), a.frame, frames)
+            run_sssr(backend, input.scene.as_ref().map(|s| s as &dyn super::sssr::FrameSource), &input.gbuffer, &s, &a.sssr(), a.frame, frames)
         }
     }
 }

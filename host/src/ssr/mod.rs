@@ -6,6 +6,7 @@ pub mod camera;
 pub mod bench;
 pub mod cli;
 pub mod gbuffer;
+pub mod gltf_scenes;
 pub mod legend;
 pub mod metrics;
 pub mod pipeline;

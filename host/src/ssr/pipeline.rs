@@ -417,6 +417,8 @@ pub struct SsrResult {
     pub times: Vec<PassTime>,
     /// Extra outputs of the stochastic pipeline (tile classes etc.).
     pub tiles: Option<super::sssr::TileStats>,
+    /// The reflection of the frame before the last, for multi-frame runs (temporal stability).
+    pub previous_reflection: Option<Vec<f32>>,
 }
 
 /// Run HDRP's SSR (trace + reprojection/resolve) on `gb`.
@@ -450,5 +452,6 @@ pub fn run_hdrp(backend: &Backend, gb: &GBuffer, s: &SsrSettings, trace_mode: Tr
         reflection,
         times: r.times,
         tiles: None,
+        previous_reflection: None,
     })
 }

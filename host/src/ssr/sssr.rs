@@ -518,6 +518,7 @@ pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSett
             reflection,
             times: r.times,
             tiles: Some(stats),
+            previous_reflection: None,
         },
         list,
     ))
@@ -528,7 +529,7 @@ pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSett
 /// numbers). Times are those of the last frame (temporal pass included).
 pub fn run_sssr(
     backend: &Backend,
-    scene: Option<&Scene>,
+    source: Option<&dyn FrameSource>,
     gb: &GBuffer,
     s: &SsrSettings,
     t: &SssrSettings,
@@ -538,15 +539,18 @@ pub fn run_sssr(
     let frames = frames.max(1);
     let mut history: Option<Vec<f32>> = None;
     let mut prev_gbuf: Option<Vec<f32>> = None;
-    let mut last = None;
+    let mut last: Option<SsrResult> = None;
     for k in 0..frames {
         let f = (frame + k + 1).saturating_sub(frames);
         let g_owned;
-        let g = match scene {
-            Some(sc) if k + 1 < frames && sc.animated() => {
-                g_owned = sc.render_gbuffer(gb.width, gb.height, f);
-                &g_owned
-            }
+        let g = match source {
+            Some(src) if k + 1 < frames => match src.gbuffer(gb.width, gb.height, f)? {
+                Some(g) => {
+                    g_owned = g;
+                    &g_owned
+                }
+                None => gb,
+            },
             _ => gb,
         };
         let mut ss = s.clone();
@@ -571,9 +575,45 @@ pub fn run_sssr(
             res.reflection = out.chunks_exact(HISTORY_STRIDE).flat_map(|c| [c[0], c[1], c[2], c[3]]).collect();
             history = Some(out);
         }
+        res.previous_reflection = last.take().map(|l| l.reflection);
         last = Some(res);
     }
     Ok(last.expect("at least one frame"))
+}
+
+/// Where a temporal run gets the G-buffers of the frames before the last (the last is the
+/// G-buffer passed to [`run_sssr`]).
+pub trait FrameSource {
+    /// The G-buffer of frame `f` at `width` x `height`, or `None` to reuse the last frame's (a
+    /// static camera over a static scene).
+    fn gbuffer(&self, width: usize, height: usize, f: u32) -> Result<Option<GBuffer>>;
+}
+
+impl FrameSource for Scene {
+    /// Animated built-in scenes render frame `f`; static ones reuse the last frame.
+    fn gbuffer(&self, width: usize, height: usize, f: u32) -> Result<Option<GBuffer>> {
+        Ok(self.animated().then(|| self.render_gbuffer(width, height, f)))
+    }
+}
+
+/// Stored G-buffers of frames `first ..`: for G-buffers exported along a camera path
+/// (`host render --gbuffer --orbit`), or a camera cut (another view's frames before the last).
+pub struct FrameSequence {
+    /// Frame number of `frames[0]`.
+    pub first: u32,
+    pub frames: Vec<GBuffer>,
+}
+
+impl FrameSource for FrameSequence {
+    /// The stored frame `f`; frames outside the sequence reuse the last frame (none is
+    /// invented); a stored frame of another size is an error.
+    fn gbuffer(&self, width: usize, height: usize, f: u32) -> Result<Option<GBuffer>> {
+        let Some(g) = f.checked_sub(self.first).and_then(|i| self.frames.get(i as usize)) else { return Ok(None) };
+        if g.width != width || g.height != height {
+            anyhow::bail!("stored frame {f} is {}x{}, the run is {width}x{height}", g.width, g.height);
+        }
+        Ok(Some(g.clone()))
+    }
 }
 
 /// The ray-list order is a pure function of the G-buffer: a CPU reference for tests.

@@ -10,6 +10,7 @@
 mod builder;
 mod builtin;
 mod gltf_load;
+pub mod gltf_write;
 mod math;
 
 pub use builder::SceneBuilder;
