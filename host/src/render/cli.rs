@@ -415,6 +415,7 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
             cmd.compensation.label(),
             cmd.seed
         ),
+        noise_rel: None,
     });
     let e = export_frame(backend, inputs, &spec, Some(&img.color), info, &mut Bar::new(cmd))?;
     e.gbuffer.save(path)?;
@@ -426,7 +427,11 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
     let glossy = e.reference.as_ref().map(|r| r.glossy.iter().filter(|g| **g).count()).unwrap_or(0);
     eprintln!(
         "G-buffer{}: {:.3} s ({}; wall {:.3} s, {:.3} M rays/s), {} glossy pixels{}; wrote {}",
-        if cmd.reference_spp > 0 { format!(" + reference ({} samples per glossy pixel)", cmd.reference_spp) } else { String::new() },
+        match e.gbuffer.reference.as_ref().and_then(|r| r.noise_rel) {
+            Some(n) => format!(" + reference ({} samples per glossy pixel, relative noise {n:.4})", cmd.reference_spp),
+            None if cmd.reference_spp > 0 => format!(" + reference ({} samples per glossy pixel)", cmd.reference_spp),
+            None => String::new(),
+        },
         e.gbuffer_time.seconds,
         e.gbuffer_time.source,
         e.gbuffer_wall,
@@ -439,5 +444,6 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
         "files": files, "reference_spp": cmd.reference_spp, "max_roughness": cmd.max_roughness,
         "fallback": spec.fallback, "near": spec.near, "glossy_pixels": glossy, "seconds": e.gbuffer_time.seconds, "wall_seconds": e.gbuffer_wall,
         "rays": e.rays, "previous_frame_seconds": e.previous_seconds,
+        "reference_noise_rel": e.gbuffer.reference.as_ref().and_then(|r| r.noise_rel),
     }))
 }

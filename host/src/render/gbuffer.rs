@@ -289,13 +289,52 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
     let gp = GBufferParams { render: spec.params, max_roughness: spec.max_roughness, fallback: shader_core::Vec3::new(spec.fallback[0], spec.fallback[1], spec.fallback[2]) };
     let t1 = std::time::Instant::now();
     progress.start("G-buffer + reference", spec.reference_spp);
-    let r = render_gbuffer(backend, inputs, &gp, spec.reference_spp, spec.spp_per_pass, |d| progress.update(d));
+    // The reference in two halves of disjoint samples: their difference measures its noise.
+    let half = spec.reference_spp / 2;
+    let first = if half == 0 { spec.reference_spp } else { half };
+    let r = render_gbuffer(backend, inputs, &gp, first, spec.spp_per_pass, |d| progress.update(d)).and_then(|(a, ta)| {
+        if half == 0 {
+            return Ok((a, ta, None));
+        }
+        let second = GBufferParams { render: RenderParams { sample_base: spec.params.sample_base + half, ..gp.render }, ..gp };
+        let (b, tb) = render_gbuffer(backend, inputs, &second, spec.reference_spp - half, spec.spp_per_pass, |d| progress.update(half + d))?;
+        let noise = noise_floor(&a, &b);
+        let mut sum = a;
+        for (x, y) in sum.values.chunks_exact_mut(GBUFFER_STRIDE).zip(b.values.chunks_exact(GBUFFER_STRIDE)) {
+            for k in GBUFFER_VALUES..GBUFFER_STRIDE {
+                x[k] += y[k];
+            }
+        }
+        sum.samples = spec.reference_spp;
+        Ok((sum, ta.add(tb), noise))
+    });
     progress.finish();
-    let (sums, gbuffer_time) = r?;
+    let (sums, gbuffer_time, noise) = r?;
+    let reference = reference.map(|r| ReferenceFile { noise_rel: noise, ..r });
     let gbuffer_wall = t1.elapsed().as_secs_f64();
     let rays: f64 = sums.values.chunks_exact(GBUFFER_STRIDE).map(|p| p[GBUFFER_STRIDE - 1] as f64).sum();
     let (gbuffer, reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: spec.fallback }, reference)?;
     Ok(Exported { gbuffer, reference, gbuffer_time, gbuffer_wall, rays, previous_seconds })
+}
+
+/// The relative noise of a reference made of the two halves `a` and `b` (equal sample counts,
+/// disjoint samples): RMS over glossy pixels and channels of (a - b) / 2, over the RMS of
+/// (a + b) / 2 (each half's normalized reflection; the standard error of their mean for
+/// independent halves). `None` when no pixel has reference weight.
+pub fn noise_floor(a: &GBufferSums, b: &GBufferSums) -> Option<f64> {
+    let (mut d2, mut r2) = (0.0f64, 0.0f64);
+    for (x, y) in a.values.chunks_exact(GBUFFER_STRIDE).zip(b.values.chunks_exact(GBUFFER_STRIDE)) {
+        let (wa, wb) = (f64::from(x[22]), f64::from(y[22]));
+        if x[9] == 0.0 || !(wa > 0.0) || !(wb > 0.0) {
+            continue;
+        }
+        for k in 10..13 {
+            let (ra, rb) = (f64::from(x[k]) / wa, f64::from(y[k]) / wb);
+            d2 += (ra - rb).powi(2) / 4.0;
+            r2 += ((f64::from(x[k]) + f64::from(y[k])) / (wa + wb)).powi(2);
+        }
+    }
+    (r2 > 0.0).then(|| (d2 / r2).sqrt())
 }
 
 /// The reference EXR beside G-buffer `path`: `<stem>.reference.exr`.

@@ -256,6 +256,7 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
             samples: reference_spp,
             max_roughness,
             method: "path traced (MIS, max depth 8, Turquin compensation, seed 0); fallback = the environment's radiance".into(),
+            noise_rel: None,
         });
         let t = std::time::Instant::now();
         let e = export_frame(backend, &inputs, &spec, None, info, &mut Quiet)?;
@@ -283,12 +284,13 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
         frame,
         animated: which.orbit().is_some(),
         provenance: format!(
-            "glTF scene `{}` ({} triangles) path traced on the {} backend: colour {} spp, reference {} samples per glossy pixel{}; camera cut from a view turned by 40 degrees; inputs ready in {:.1} s",
+            "glTF scene `{}` ({} triangles) path traced on the {} backend: colour {} spp, reference {} samples per glossy pixel (its own relative noise {}){}; camera cut from a view turned by 40 degrees; inputs ready in {:.1} s",
             path.display(),
             sc.counts.triangles,
             if matches!(backend, Backend::Cpu) { "CPU" } else { "GPU" },
             a.colour_spp,
             a.reference_samples,
+            gb.reference.as_ref().and_then(|r| r.noise_rel).map(|n| figure(n, 3)).unwrap_or_else(|| "n/a".into()),
             which.orbit().map(|d| format!("; camera orbiting {d} degrees per frame, frame {frame}")).unwrap_or_default(),
             t0.elapsed().as_secs_f64()
         ),

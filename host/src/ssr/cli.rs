@@ -533,7 +533,13 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
                     1.0 - a.min_smoothness
                 );
             }
-            eprintln!("  reference: {} ({} samples per glossy pixel, {})", info.file, info.samples, info.method);
+            eprintln!(
+                "  reference: {} ({} samples per glossy pixel, {}{})",
+                info.file,
+                info.samples,
+                info.method,
+                info.noise_rel.map(|n| format!("; its own relative noise {n:.4}: errors are measured against it")).unwrap_or_default()
+            );
             Some(r.clone())
         }
         (None, None) => {

@@ -72,6 +72,10 @@ pub struct ReferenceFile {
     pub max_roughness: f32,
     /// How it was made (e.g. "path traced, max depth 8").
     pub method: String,
+    /// Its own relative noise (standard error over RMS value, glossy pixels), measured from two
+    /// halves of its samples; errors against it cannot be read below this.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_rel: Option<f64>,
 }
 
 /// The JSON path of an EXR path.
