@@ -153,6 +153,7 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         width: w,
         height: h,
         depth: Vec::with_capacity(n),
+        depth_far: None,
         normal: Vec::with_capacity(3 * n),
         roughness: Vec::with_capacity(n),
         metalness: Vec::with_capacity(n),

@@ -151,7 +151,38 @@ fn intersect(shape: &Shape, o: V3, d: V3, t_min: f64) -> Option<(f64, V3)> {
     }
 }
 
+/// Half-width, in pixels, of the square around a pixel centre over which the G-buffer's far
+/// depth is taken (one pixel: a ray crossing the surface between two texel centres crosses it
+/// within this distance of both).
+pub const FAR_DEPTH_RADIUS: f64 = 1.0;
+/// Primary rays per side of the square grid the far depth is the maximum over.
+pub const FAR_DEPTH_GRID: usize = 5;
+
 impl Scene {
+    /// The G-buffer's far depth of the pixel centre (sx, sy) whose primary ray hit `h` at view
+    /// depth `z`: the largest view depth of the same object over the primary rays through a
+    /// [`FAR_DEPTH_GRID`]^2 grid spanning [-r, r]^2 pixels around the centre (r =
+    /// [`FAR_DEPTH_RADIUS`]), i.e. the depth extent of the surface the pixel shows, visible, near
+    /// it (`super::gbuffer`'s `depth_far`).
+    pub fn far_depth(&self, cam: &Camera, width: usize, height: usize, sx: f64, sy: f64, h: &Hit, z: f64) -> f64 {
+        let eye = cam.eye();
+        let k = FAR_DEPTH_GRID - 1;
+        let mut far = z;
+        for a in 0..=k {
+            for b in 0..=k {
+                let ox = FAR_DEPTH_RADIUS * (2.0 * a as f64 / k as f64 - 1.0);
+                let oy = FAR_DEPTH_RADIUS * (2.0 * b as f64 / k as f64 - 1.0);
+                let d = cam.ray_dir(width, height, sx + ox, sy + oy);
+                if let Some(hs) = self.cast(eye, d, 1e-9) {
+                    if hs.object == h.object {
+                        far = far.max(cam.to_view(hs.p)[2]);
+                    }
+                }
+            }
+        }
+        far
+    }
+
     /// The nearest hit along the unit ray o + t d with t > t_min.
     pub fn cast(&self, o: V3, d: V3, t_min: f64) -> Option<Hit> {
         let mut best: Option<Hit> = None;
@@ -200,15 +231,15 @@ impl Scene {
     }
 
     /// Render the G-buffer of frame `frame` at `width` x `height`: primary rays through pixel
-    /// centres; the colour buffer is rendered from the previous frame's camera (frame - 1 for
-    /// animated scenes), motion vectors from reprojecting each pixel's point (or direction, for
+    /// centres (with the far depth of [`Scene::far_depth`]); the colour buffer is rendered from
+    /// the previous frame's camera (frame - 1 for animated scenes), motion vectors from reprojecting each pixel's point (or direction, for
     /// the sky) with the previous camera.
     pub fn render_gbuffer(&self, width: usize, height: usize, frame: u32) -> GBuffer {
         let cam = self.camera(frame);
         let prev = if self.animated() && frame > 0 { self.camera(frame - 1) } else { cam };
         let eye = cam.eye();
         let n = width * height;
-        let rows: Vec<(f32, [f32; 3], f32, f32, [f32; 3], [f32; 2])> = (0..n)
+        let rows: Vec<(f32, f32, [f32; 3], f32, f32, [f32; 3], [f32; 2])> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let (x, y) = (i % width, i / width);
@@ -219,8 +250,10 @@ impl Scene {
                         let v = cam.to_view(h.p);
                         let m = &self.objects[h.object].material;
                         let mv = cam.motion(&prev, width, height, sx, sy, Some(h.p));
+                        let far = self.far_depth(&cam, width, height, sx, sy, &h, v[2]);
                         (
                             v[2] as f32,
+                            (far as f32).max(v[2] as f32),
                             [h.n[0] as f32, h.n[1] as f32, h.n[2] as f32],
                             m.roughness_at(h.p),
                             m.metalness,
@@ -228,7 +261,7 @@ impl Scene {
                             mv,
                         )
                     }
-                    None => (f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, [0.0; 3], cam.motion(&prev, width, height, sx, sy, None)),
+                    None => (f32::INFINITY, f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, [0.0; 3], cam.motion(&prev, width, height, sx, sy, None)),
                 }
             })
             .collect();
@@ -237,6 +270,7 @@ impl Scene {
             width,
             height,
             depth: Vec::with_capacity(n),
+            depth_far: Some(Vec::with_capacity(n)),
             normal: Vec::with_capacity(3 * n),
             roughness: Vec::with_capacity(n),
             metalness: Vec::with_capacity(n),
@@ -248,8 +282,9 @@ impl Scene {
             fallback: self.sky,
             reference: None,
         };
-        for (z, nn, r, m, bc, mv) in rows {
+        for (z, zb, nn, r, m, bc, mv) in rows {
             g.depth.push(z);
+            g.depth_far.as_mut().unwrap().push(zb);
             g.normal.extend_from_slice(&nn);
             g.roughness.push(r);
             g.metalness.push(m);
