@@ -71,7 +71,7 @@ pub fn pt_render(
 }
 
 /// Output floats per pixel of [`pt_gbuffer`].
-pub const GBUFFER_STRIDE: usize = 26;
+pub const GBUFFER_STRIDE: usize = 27;
 
 /// The launch record of [`pt_gbuffer`]: the launch fields, then the G-buffer parameters.
 #[repr(C)]
@@ -99,7 +99,7 @@ impl GBufferArgs {
 
 /// Invocation `i`: pixel `first_pixel + i` of `shader_core::pt::gbuffer::gbuffer_pixel` into
 /// `out[GBUFFER_STRIDE i..]`: depth, normal XYZ, roughness, metallic, base RGB, glossy (0/1),
-/// then the reference sums all RGB, on-screen RGB, specular all RGB, specular on-screen RGB,
+/// far depth, then the reference sums all RGB, on-screen RGB, specular all RGB, specular on-screen RGB,
 /// weight, same-both-ways weight, samples, rays.
 #[inline]
 pub fn gbuffer_pixel(i: u32, args: &GBufferArgs, scene: &[u32], env: &[f32], lut: &[f32], out: &mut [f32]) {
@@ -111,14 +111,15 @@ pub fn gbuffer_pixel(i: u32, args: &GBufferArgs, scene: &[u32], env: &[f32], lut
     store(out, o + 5, g.metallic);
     store3(out, o + 6, g.base);
     store(out, o + 9, g.glossy as f32);
-    store3(out, o + 10, g.all);
-    store3(out, o + 13, g.onscreen);
-    store3(out, o + 16, g.specular_all);
-    store3(out, o + 19, g.specular_onscreen);
-    store(out, o + 22, g.weight);
-    store(out, o + 23, g.weight_same);
-    store(out, o + 24, g.samples);
-    store(out, o + 25, g.rays);
+    store(out, o + 10, g.depth_far);
+    store3(out, o + 11, g.all);
+    store3(out, o + 14, g.onscreen);
+    store3(out, o + 17, g.specular_all);
+    store3(out, o + 20, g.specular_onscreen);
+    store(out, o + 23, g.weight);
+    store(out, o + 24, g.weight_same);
+    store(out, o + 25, g.samples);
+    store(out, o + 26, g.rays);
 }
 
 #[inline]

@@ -406,7 +406,7 @@ fn export_gbuffer(
         render_gbuffer(backend, inputs, &gp, cmd.reference_spp, cmd.spp_per_pass, progress)
     })?;
     let wall = t1.elapsed().as_secs_f64();
-    let rays: f64 = sums.values.chunks_exact(shader_kernels::render::GBUFFER_STRIDE).map(|p| p[25] as f64).sum();
+    let rays: f64 = sums.values.chunks_exact(shader_kernels::render::GBUFFER_STRIDE).map(|p| p[26] as f64).sum();
     let ref_path = reference_path(path);
     let info = crate::ssr::gbuffer::ReferenceFile {
         file: ref_path.file_name().expect("a file name").to_string_lossy().into_owned(),

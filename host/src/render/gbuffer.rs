@@ -28,7 +28,7 @@ use shader_kernels::render::{GBufferArgs, GBUFFER_STRIDE};
 pub const ENTRY: &str = "render::pt_gbuffer";
 
 /// Values per pixel that are the G-buffer itself (the same in every launch); the rest are sums.
-const GBUFFER_VALUES: usize = 10;
+const GBUFFER_VALUES: usize = 11;
 
 /// One launch: the G-buffer and reference samples `p.render.sample_base .. + p.render.spp` of
 /// every pixel; `GBUFFER_STRIDE` floats per pixel.
@@ -153,7 +153,7 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         width: w,
         height: h,
         depth: Vec::with_capacity(n),
-        depth_far: None,
+        depth_far: Some(Vec::with_capacity(n)),
         normal: Vec::with_capacity(3 * n),
         roughness: Vec::with_capacity(n),
         metalness: Vec::with_capacity(n),
@@ -189,7 +189,8 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         let point = depth.is_finite().then(|| f.ssr_camera.unproject(w, h, sx, sy, depth as f64));
         gb.motion.extend(f.ssr_camera.motion(&f.ssr_previous, w, h, sx, sy, point));
         let glossy = px[9] != 0.0;
-        let (weight, same, samples) = (px[22], px[23], px[24]);
+        gb.depth_far.as_mut().expect("allocated above").push(px[10]);
+        let (weight, same, samples) = (px[23], px[24], px[25]);
         if !glossy || !(weight > 0.0) {
             r.all.extend_from_slice(&f.fallback);
             r.onscreen.extend_from_slice(&f.fallback);
@@ -197,10 +198,10 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
             r.specular_onscreen.extend_from_slice(&[0.0; 3]);
             r.onscreen_fraction.push(if glossy { 1.0 } else { 0.0 });
         } else {
-            r.all.extend(px[10..13].iter().map(|v| v / weight));
-            r.onscreen.extend(px[13..16].iter().map(|v| v / weight));
-            r.specular_all.extend(px[16..19].iter().map(|v| v / samples));
-            r.specular_onscreen.extend(px[19..22].iter().map(|v| v / samples));
+            r.all.extend(px[11..14].iter().map(|v| v / weight));
+            r.onscreen.extend(px[14..17].iter().map(|v| v / weight));
+            r.specular_all.extend(px[17..20].iter().map(|v| v / samples));
+            r.specular_onscreen.extend(px[20..23].iter().map(|v| v / samples));
             r.onscreen_fraction.push(same / weight);
         }
         r.glossy.push(glossy);

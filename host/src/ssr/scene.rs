@@ -151,27 +151,21 @@ fn intersect(shape: &Shape, o: V3, d: V3, t_min: f64) -> Option<(f64, V3)> {
     }
 }
 
-/// Half-width, in pixels, of the square around a pixel centre over which the G-buffer's far
-/// depth is taken (one pixel: a ray crossing the surface between two texel centres crosses it
-/// within this distance of both).
-pub const FAR_DEPTH_RADIUS: f64 = 1.0;
-/// Primary rays per side of the square grid the far depth is the maximum over.
-pub const FAR_DEPTH_GRID: usize = 5;
-
 impl Scene {
     /// The G-buffer's far depth of the pixel centre (sx, sy) whose primary ray hit `h` at view
     /// depth `z`: the largest view depth of the same object over the primary rays through a
-    /// [`FAR_DEPTH_GRID`]^2 grid spanning [-r, r]^2 pixels around the centre (r =
-    /// [`FAR_DEPTH_RADIUS`]), i.e. the depth extent of the surface the pixel shows, visible, near
+    /// `FAR_DEPTH_GRID`^2 grid spanning [-r, r]^2 pixels around the centre (r =
+    /// `FAR_DEPTH_RADIUS`, both `shader_core::ssr::trace`), i.e. the depth extent of the surface the pixel shows, visible, near
     /// it (`super::gbuffer`'s `depth_far`).
     pub fn far_depth(&self, cam: &Camera, width: usize, height: usize, sx: f64, sy: f64, h: &Hit, z: f64) -> f64 {
+        use shader_core::ssr::trace::{FAR_DEPTH_GRID, FAR_DEPTH_RADIUS};
         let eye = cam.eye();
-        let k = FAR_DEPTH_GRID - 1;
+        let (k, radius) = (FAR_DEPTH_GRID - 1, f64::from(FAR_DEPTH_RADIUS));
         let mut far = z;
         for a in 0..=k {
             for b in 0..=k {
-                let ox = FAR_DEPTH_RADIUS * (2.0 * a as f64 / k as f64 - 1.0);
-                let oy = FAR_DEPTH_RADIUS * (2.0 * b as f64 / k as f64 - 1.0);
+                let ox = radius * (2.0 * a as f64 / k as f64 - 1.0);
+                let oy = radius * (2.0 * b as f64 / k as f64 - 1.0);
                 let d = cam.ray_dir(width, height, sx + ox, sy + oy);
                 if let Some(hs) = self.cast(eye, d, 1e-9) {
                     if hs.object == h.object {

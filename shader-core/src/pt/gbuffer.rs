@@ -26,7 +26,7 @@ use super::bvh;
 use super::camera::Camera;
 use super::integrator::{sample_rng, trace_path, RenderParams, SHADOW_EPSILON};
 use super::ray::{offset_origin, Ray};
-use super::scene::NONE;
+use super::scene::{self, NONE};
 use super::surface;
 use crate::fresnel::{reflect, schlick_rgb};
 use crate::ieee;
@@ -59,6 +59,12 @@ pub struct GBufferParams {
 pub struct GBufferPixel {
     /// Linear view depth (along the camera's forward axis), +inf for the sky.
     pub depth: f32,
+    /// Far depth (`host::ssr::gbuffer`'s `depth_far`): the largest linear view depth among the
+    /// primary rays through the [`crate::ssr::trace::FAR_DEPTH_GRID`]^2 grid over
+    /// [-r, r]^2 px around the centre (r = [`crate::ssr::trace::FAR_DEPTH_RADIUS`]) that hit a
+    /// triangle of the centre's material (the scene records no object ids; a material stands for
+    /// the object), at least `depth`; +inf for the sky.
+    pub depth_far: f32,
     /// World shading normal (the sky: +y).
     pub normal: Vec3,
     /// Perceptual roughness (the sky: 1).
@@ -110,6 +116,37 @@ pub fn visible_on_screen(sc: &[u32], camera: &Camera, width: u32, height: u32, p
     !bvh::occluded(sc, &Ray::new(camera.origin, to / dist), dist * (1.0 - SHADOW_EPSILON))
 }
 
+/// The far depth of pixel (x, y) whose centre ray hit triangle `tri` at depth `depth` (see
+/// [`GBufferPixel::depth_far`]), and the number of rays it cast.
+#[allow(clippy::too_many_arguments)]
+pub fn far_depth(sc: &[u32], camera: &Camera, width: u32, height: u32, x: u32, y: u32, tri: u32, depth: f32) -> (f32, f32) {
+    use crate::ssr::trace::{FAR_DEPTH_GRID, FAR_DEPTH_RADIUS};
+    let material = scene::word(sc, scene::shading(sc, tri, scene::S_MATERIAL));
+    let k = (FAR_DEPTH_GRID - 1) as f32;
+    let mut far = depth;
+    let mut rays = 0.0;
+    let mut a: u32 = 0;
+    while a < FAR_DEPTH_GRID {
+        let mut b: u32 = 0;
+        while b < FAR_DEPTH_GRID {
+            let ox = FAR_DEPTH_RADIUS * (ieee::div(2.0 * a as f32, k) - 1.0);
+            let oy = FAR_DEPTH_RADIUS * (ieee::div(2.0 * b as f32, k) - 1.0);
+            let ray = camera.ray(x as f32 + 0.5 + ox, y as f32 + 0.5 + oy, width, height);
+            let h = bvh::closest_hit(sc, &ray, f32::INFINITY);
+            rays = rays + 1.0;
+            if h.tri != NONE && scene::word(sc, scene::shading(sc, h.tri, scene::S_MATERIAL)) == material {
+                let z = camera.depth(ray.d, h.t);
+                if z > far {
+                    far = z;
+                }
+            }
+            b += 1;
+        }
+        a += 1;
+    }
+    (far, rays)
+}
+
 /// Pixel `pixel` (row-major from the top-left): the first hit through its centre and
 /// reference samples `sample_base .. sample_base + spp`.
 #[inline]
@@ -119,6 +156,7 @@ pub fn gbuffer_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &GBufferParams, pi
     let primary = r.camera.ray(x as f32 + 0.5, y as f32 + 0.5, r.width, r.height);
     let mut out = GBufferPixel {
         depth: f32::INFINITY,
+        depth_far: f32::INFINITY,
         normal: Vec3::new(0.0, 1.0, 0.0),
         roughness: 1.0,
         rays: 1.0,
@@ -130,6 +168,9 @@ pub fn gbuffer_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &GBufferParams, pi
     }
     let sp = surface::surface_point(sc, hit.tri, hit.b1, hit.b2, primary.d);
     out.depth = r.camera.depth(primary.d, hit.t);
+    let (far, far_rays) = far_depth(sc, &r.camera, r.width, r.height, x, y, hit.tri, out.depth);
+    out.depth_far = far;
+    out.rays = out.rays + far_rays;
     out.normal = sp.ns;
     out.roughness = sp.material.roughness;
     out.metallic = sp.material.metallic;

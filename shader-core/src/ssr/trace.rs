@@ -224,6 +224,15 @@ pub fn pyramid_depth(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32) -
     device_depth(p, pyr[(base + cy * w + cx) as usize])
 }
 
+/// Half-width, in pixels, of the square around a pixel centre over which a G-buffer's far depth
+/// is taken (one pixel: a ray that crosses a surface between two texel centres crosses it within
+/// that distance of both). The G-buffer producers (`host`'s analytic scenes,
+/// [`crate::pt::gbuffer::gbuffer_pixel`]) use it.
+pub const FAR_DEPTH_RADIUS: f32 = 1.0;
+/// Primary rays per side of the square grid over [-FAR_DEPTH_RADIUS, FAR_DEPTH_RADIUS]^2 px
+/// whose largest depth on the centre's object is the far depth (offsets -1, -0.5, 0, 0.5, 1 px).
+pub const FAR_DEPTH_GRID: u32 = 5;
+
 /// Device depth where the thickness slab of the surface in cell (cx, cy) of `level` ends: a ray
 /// point at device depth in [slab_base, floor_d] is inside that surface. At mip 0 with a
 /// far-depth layer ([`SsrParams::far_depth_offset`]), the texel's far depth (the farthest depth
