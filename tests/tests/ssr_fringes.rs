@@ -75,15 +75,14 @@ fn measure(name: &str, w: usize, h: usize, pipelines: &[Pipeline]) -> Vec<EdgeEr
 
 /// The fringes on `floor` at 1080p, HDRP (Hi-Z, SSR_APPROX) and stochastic SSR. With HDRP's
 /// constant 1% slab both had 8263 wrong pixels, 898 of them false hits (docs/ssr.md); the
-/// far-depth slab has 8163 (163): false hits must stay below 300, and the wrong pixels below
-/// the constant slab's count.
+/// far-depth slab has 7505 (268, single pixels along the edges): asserted below 450 and 7900.
 #[test]
 fn floor_1080p_sphere_reflection_edges_have_no_fringes() {
     let r = measure("floor", 1920, 1080, &[Pipeline::Hdrp, Pipeline::Sssr]);
     for (pl, e) in [Pipeline::Hdrp, Pipeline::Sssr].iter().zip(&r) {
         assert!(e.mirror > 100_000, "{pl:?}: too few mirror pixels to measure ({})", e.mirror);
-        assert!(e.false_hits < 300, "{pl:?}: {} false hits along the reflections' edges (fringes)", e.false_hits);
-        assert!(e.wrong < 8263, "{pl:?}: {} wrong mirror pixels", e.wrong);
+        assert!(e.false_hits < 450, "{pl:?}: {} false hits along the reflections' edges (fringes)", e.false_hits);
+        assert!(e.wrong < 7900, "{pl:?}: {} wrong mirror pixels", e.wrong);
     }
 }
 
