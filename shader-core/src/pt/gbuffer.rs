@@ -165,7 +165,7 @@ fn far_outline(sc: &[u32], camera: &Camera, width: u32, height: u32, ax: f32, ay
 /// The far depth of pixel (x, y) whose centre ray hit triangle `tri` at depth `depth` (see
 /// [`GBufferPixel::depth_far`]), and the number of rays it cast: the grid of
 /// [`crate::ssr::trace::FAR_DEPTH_GRID`]^2 primary rays, and between neighbouring grid points of
-/// which only one sees the centre's material, the outline found by [`far_outline`] (the
+/// which only one sees the centre's material, the outline found by `far_outline` (the
 /// vertical neighbour is cast again rather than stored: kernels keep no indexed local arrays).
 #[allow(clippy::too_many_arguments)]
 pub fn far_depth(sc: &[u32], camera: &Camera, width: u32, height: u32, x: u32, y: u32, tri: u32, depth: f32) -> (f32, f32) {

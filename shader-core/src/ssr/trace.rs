@@ -230,7 +230,8 @@ pub fn pyramid_depth(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32) -
 /// [`crate::pt::gbuffer::gbuffer_pixel`]) use it.
 pub const FAR_DEPTH_RADIUS: f32 = 1.0;
 /// Primary rays per side of the square grid over [-FAR_DEPTH_RADIUS, FAR_DEPTH_RADIUS]^2 px
-/// whose largest depth on the centre's object is the far depth (offsets -1, -0.5, 0, 0.5, 1 px).
+/// (offsets -1, -0.5, 0, 0.5, 1 px) whose largest depth on the centre's object, together with the
+/// object's outline depth between neighbouring grid points, is the far depth.
 pub const FAR_DEPTH_GRID: u32 = 5;
 
 /// Device depth where the thickness slab of the surface in cell (cx, cy) of `level` ends: a ray
