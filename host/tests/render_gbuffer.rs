@@ -197,6 +197,11 @@ fn ssr_on_an_exported_gbuffer_agrees_with_its_reference() {
     let (w, h) = (128u32, 96u32);
     let (gb, r) = export(&scene, [1.0; 3], &camera(), &camera(), w, h, 64, 64, 0.6);
     let r = r.unwrap();
+    // The far depth (`shader_core::pt::gbuffer::far_depth`): written, never nearer than the
+    // depth, and farther than it somewhere (along the box's outlines).
+    let far = gb.depth_far.as_ref().expect("the kernel writes the far depth");
+    assert!(far.iter().zip(&gb.depth).all(|(f, z)| f >= z && f.is_infinite() == z.is_infinite()));
+    assert!(far.iter().zip(&gb.depth).any(|(f, z)| z.is_finite() && *f > *z * 1.01), "no outline in the far depth");
     // The box's reflection is on screen: on-screen pixels whose rays all hit the visible box.
     let red = (0..(w * h) as usize).filter(|&i| r.glossy[i] && r.onscreen_fraction[i] >= 0.999 && r.onscreen[3 * i] > 2.0 * r.onscreen[3 * i + 1]).count();
     assert!(red > 200, "only {red} floor pixels reflect the red box");

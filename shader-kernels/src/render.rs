@@ -71,7 +71,43 @@ pub fn pt_render(
 }
 
 /// Output floats per pixel of [`pt_gbuffer`].
-pub const GBUFFER_STRIDE: usize = 26;
+pub const GBUFFER_STRIDE: usize = 27;
+
+/// Offsets of [`gbuffer_pixel`]'s values in a pixel's `GBUFFER_STRIDE` floats: the G-buffer
+/// ([`DEPTH`](gbuffer_out::DEPTH) .. [`DEPTH_FAR`](gbuffer_out::DEPTH_FAR), the same in every
+/// launch), then the reference sums from [`ALL`](gbuffer_out::ALL) on (added over launches).
+pub mod gbuffer_out {
+    /// Linear view depth.
+    pub const DEPTH: usize = 0;
+    /// World normal XYZ.
+    pub const NORMAL: usize = 1;
+    /// Perceptual roughness.
+    pub const ROUGHNESS: usize = 4;
+    /// Metallic.
+    pub const METALLIC: usize = 5;
+    /// Base colour RGB.
+    pub const BASE: usize = 6;
+    /// 1 where reference samples were taken, else 0.
+    pub const GLOSSY: usize = 9;
+    /// Far depth of the texel (`shader_core::pt::gbuffer::GBufferPixel::depth_far`).
+    pub const DEPTH_FAR: usize = 10;
+    /// Sum of w L, all geometry (RGB); the first summed value.
+    pub const ALL: usize = 11;
+    /// Sum of w L, on-screen geometry (RGB).
+    pub const ONSCREEN: usize = 14;
+    /// Sum of w F L, all geometry (RGB).
+    pub const SPECULAR_ALL: usize = 17;
+    /// Sum of w F L, on-screen geometry (RGB).
+    pub const SPECULAR_ONSCREEN: usize = 20;
+    /// Sum of w.
+    pub const WEIGHT: usize = 23;
+    /// Sum of w over samples the same both ways.
+    pub const WEIGHT_SAME: usize = 24;
+    /// Samples taken.
+    pub const SAMPLES: usize = 25;
+    /// Rays traced.
+    pub const RAYS: usize = 26;
+}
 
 /// The launch record of [`pt_gbuffer`]: the launch fields, then the G-buffer parameters.
 #[repr(C)]
@@ -98,27 +134,27 @@ impl GBufferArgs {
 }
 
 /// Invocation `i`: pixel `first_pixel + i` of `shader_core::pt::gbuffer::gbuffer_pixel` into
-/// `out[GBUFFER_STRIDE i..]`: depth, normal XYZ, roughness, metallic, base RGB, glossy (0/1),
-/// then the reference sums all RGB, on-screen RGB, specular all RGB, specular on-screen RGB,
-/// weight, same-both-ways weight, samples, rays.
+/// `out[GBUFFER_STRIDE i..]` at the offsets of [`gbuffer_out`].
 #[inline]
 pub fn gbuffer_pixel(i: u32, args: &GBufferArgs, scene: &[u32], env: &[f32], lut: &[f32], out: &mut [f32]) {
     let g = gbuffer::gbuffer_pixel(scene, env, lut, &args.params, args.first_pixel + i);
     let o = i as usize * GBUFFER_STRIDE;
-    store(out, o, g.depth);
-    store3(out, o + 1, g.normal);
-    store(out, o + 4, g.roughness);
-    store(out, o + 5, g.metallic);
-    store3(out, o + 6, g.base);
-    store(out, o + 9, g.glossy as f32);
-    store3(out, o + 10, g.all);
-    store3(out, o + 13, g.onscreen);
-    store3(out, o + 16, g.specular_all);
-    store3(out, o + 19, g.specular_onscreen);
-    store(out, o + 22, g.weight);
-    store(out, o + 23, g.weight_same);
-    store(out, o + 24, g.samples);
-    store(out, o + 25, g.rays);
+    use gbuffer_out as layout;
+    store(out, o + layout::DEPTH, g.depth);
+    store3(out, o + layout::NORMAL, g.normal);
+    store(out, o + layout::ROUGHNESS, g.roughness);
+    store(out, o + layout::METALLIC, g.metallic);
+    store3(out, o + layout::BASE, g.base);
+    store(out, o + layout::GLOSSY, g.glossy as f32);
+    store(out, o + layout::DEPTH_FAR, g.depth_far);
+    store3(out, o + layout::ALL, g.all);
+    store3(out, o + layout::ONSCREEN, g.onscreen);
+    store3(out, o + layout::SPECULAR_ALL, g.specular_all);
+    store3(out, o + layout::SPECULAR_ONSCREEN, g.specular_onscreen);
+    store(out, o + layout::WEIGHT, g.weight);
+    store(out, o + layout::WEIGHT_SAME, g.weight_same);
+    store(out, o + layout::SAMPLES, g.samples);
+    store(out, o + layout::RAYS, g.rays);
 }
 
 #[inline]

@@ -63,7 +63,7 @@ fn hiz_matches_brute_force_at_1080p() {
     assert_eq!(s.hiz_max_iterations, 64, "the test is about HDRP's default limit");
     let consts = build_params(&g, &s).unwrap();
     let p = SsrParams::load(&consts);
-    let pyr = Runner::new(&Backend::Cpu).depth_pyramid(&consts, &g.depth).unwrap();
+    let pyr = Runner::new(&Backend::Cpu).depth_pyramid(&consts, &g.depth_layers()).unwrap();
     let gbuf = g.packed();
     // (all rays, rays towards the eye, rays away from it, mirror-floor pixels).
     let (all, towards, away, mirror) = (0..H as u32)
@@ -122,8 +122,8 @@ fn hdrp_trace_matches_gpu_at_1080p() {
     let gbuf = g.packed();
     let mut c = Runner::new(&Backend::Cpu);
     let mut q = Runner::new(gpu);
-    let dp = c.depth_pyramid(&consts, &g.depth).unwrap();
-    assert_bits_equal("depth pyramid 1080p", 1, &dp, &q.depth_pyramid(&consts, &g.depth).unwrap());
+    let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
+    assert_bits_equal("depth pyramid 1080p", 1, &dp, &q.depth_pyramid(&consts, &g.depth_layers()).unwrap());
     let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
     let rg = q.hdrp_trace(&consts, &gbuf, &dp).unwrap();
     assert_bits_equal("HDRP trace 1080p", RAY_STRIDE, &rc, &rg);

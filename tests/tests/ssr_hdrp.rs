@@ -28,8 +28,8 @@ fn hdrp_passes_match_gpu_bit_for_bit() {
         let mut consts = build_params(&g, &s).unwrap();
         let mut c = Runner::new(&Backend::Cpu);
         let mut q = Runner::new(gpu);
-        let dp = c.depth_pyramid(&consts, &g.depth).unwrap();
-        assert_bits_equal("depth pyramid", 1, &dp, &q.depth_pyramid(&consts, &g.depth).unwrap());
+        let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
+        assert_bits_equal("depth pyramid", 1, &dp, &q.depth_pyramid(&consts, &g.depth_layers()).unwrap());
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
         assert_bits_equal("color pyramid", 3, &cp, &q.color_pyramid(&consts, &g.color).unwrap());
         for (mode, steps, stochastic) in [

@@ -41,11 +41,32 @@ fn gbuffer_roundtrips_through_exr_and_json() {
         (&g.roughness, &r.roughness),
         (&g.metalness, &r.metalness),
         (&g.base_color, &r.base_color),
+        (g.depth_far.as_ref().unwrap(), r.depth_far.as_ref().unwrap()),
     ] {
         assert_eq!(a.len(), b.len());
         assert!(a.iter().zip(b.iter()).all(|(x, y)| x.to_bits() == y.to_bits()));
     }
     assert_eq!(r.camera, g.camera);
+    // A G-buffer without the optional far depth stays without it (the tracers then keep HDRP's
+    // constant slab: no far-depth layer in the parameters).
+    let mut old = g.clone();
+    old.depth_far = None;
+    let p = tmp("floor_nofar.exr");
+    old.save(&p).unwrap();
+    let r = GBuffer::load(&p).unwrap();
+    assert!(r.depth_far.is_none());
+    let consts = host::ssr::pipeline::build_params(&r, &host::ssr::SsrSettings::default()).unwrap();
+    assert_eq!(consts[shader_core::ssr::params::idx::FAR_DEPTH_OFFSET].to_bits(), 0);
+}
+
+/// The analytic scenes' far depth: never nearer than the depth, +inf exactly on the sky, and
+/// larger than the depth where a sphere's outline is within a pixel.
+#[test]
+fn far_depth_bounds_the_depth() {
+    let g = small("floor");
+    let far = g.depth_far.as_ref().unwrap();
+    assert!(far.iter().zip(&g.depth).all(|(f, z)| f >= z && (f.is_infinite() == z.is_infinite())));
+    assert!(far.iter().zip(&g.depth).any(|(f, z)| z.is_finite() && *f > *z * 1.01));
 }
 
 fn expect_err(g: &GBuffer, want: &str) {
@@ -93,6 +114,13 @@ fn bad_gbuffers_give_clear_errors() {
     let mut b = g.clone();
     b.base_color.truncate(3);
     expect_err(&b, "base color has 3 values");
+    // Far depth nearer than the depth, or of the wrong size.
+    let mut b = g.clone();
+    b.depth_far.as_mut().unwrap()[40 * 64 + 10] = 0.5 * g.depth[40 * 64 + 10];
+    expect_err(&b, "depth_far must be >= depth");
+    let mut b = g.clone();
+    b.depth_far.as_mut().unwrap().pop();
+    expect_err(&b, "depth_far has");
 }
 
 #[test]

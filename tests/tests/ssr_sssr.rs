@@ -48,7 +48,7 @@ fn sssr_passes_match_gpu_bit_for_bit() {
         let tag = format!("{name} {sampler:?} rpq {rpq} spp {spp} reuse {reuse} cut {}", t.hiz_roughness_cut);
         let mut c = Runner::new(&Backend::Cpu);
         let mut q = Runner::new(gpu);
-        let dp = c.depth_pyramid(&consts, &g.depth).unwrap();
+        let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
         let tiles = c.sssr_classify(&consts, &gbuf).unwrap();
         assert_bits_equal(&format!("{tag} classify"), TILE_STRIDE, &tiles, &q.sssr_classify(&consts, &gbuf).unwrap());
@@ -270,9 +270,9 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
         let s = SsrSettings { frame: 2, ..SsrSettings::default() };
         let consts = sssr_params(&g, &s, &t).unwrap();
         let gbuf = g.packed();
-        let c = Runner::new(&Backend::Cpu).sssr_frame_passes(&consts, &gbuf, &g.depth, &g.color).unwrap();
+        let c = Runner::new(&Backend::Cpu).sssr_frame_passes(&consts, &gbuf, &g.depth_layers(), &g.color).unwrap();
         let mut qr = Runner::new(gpu);
-        let q = qr.sssr_frame_passes(&consts, &gbuf, &g.depth, &g.color).unwrap();
+        let q = qr.sssr_frame_passes(&consts, &gbuf, &g.depth_layers(), &g.color).unwrap();
         assert!(c.count > 1000, "{name}: only {} rays", c.count);
         assert_eq!(c.count, q.count, "{name}: ray count");
         assert_bits_equal(&format!("{name} chain depth pyramid"), 1, &c.depth_pyramid, &q.depth_pyramid);

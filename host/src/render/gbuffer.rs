@@ -24,13 +24,13 @@ use std::path::{Path, PathBuf};
 use shader_core::pt::camera::{Camera, ORTHOGRAPHIC};
 use shader_core::pt::gbuffer::GBufferParams;
 use shader_core::pt::integrator::RenderParams;
-use shader_kernels::render::{GBufferArgs, GBUFFER_STRIDE};
+use shader_kernels::render::{gbuffer_out as layout, GBufferArgs, GBUFFER_STRIDE};
 
 /// The kernel's entry point.
 pub const ENTRY: &str = "render::pt_gbuffer";
 
 /// Values per pixel that are the G-buffer itself (the same in every launch); the rest are sums.
-const GBUFFER_VALUES: usize = 10;
+const GBUFFER_VALUES: usize = layout::ALL;
 
 /// One launch: the G-buffer and reference samples `p.render.sample_base .. + p.render.spp` of
 /// every pixel; `GBUFFER_STRIDE` floats per pixel.
@@ -155,6 +155,7 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         width: w,
         height: h,
         depth: Vec::with_capacity(n),
+        depth_far: Some(Vec::with_capacity(n)),
         normal: Vec::with_capacity(3 * n),
         roughness: Vec::with_capacity(n),
         metalness: Vec::with_capacity(n),
@@ -180,17 +181,18 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
     };
     for (i, px) in g.values.chunks_exact(GBUFFER_STRIDE).enumerate() {
         let (sx, sy) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
-        let depth = px[0];
+        let depth = px[layout::DEPTH];
         gb.depth.push(depth);
-        let nm = mirror([px[1] as f64, px[2] as f64, px[3] as f64]);
+        let nm = mirror([px[layout::NORMAL] as f64, px[layout::NORMAL + 1] as f64, px[layout::NORMAL + 2] as f64]);
         gb.normal.extend(nm.map(|v| v as f32));
-        gb.roughness.push(px[4]);
-        gb.metalness.push(px[5]);
-        gb.base_color.extend_from_slice(&px[6..9]);
+        gb.roughness.push(px[layout::ROUGHNESS]);
+        gb.metalness.push(px[layout::METALLIC]);
+        gb.base_color.extend_from_slice(&px[layout::BASE..layout::BASE + 3]);
         let point = depth.is_finite().then(|| f.ssr_camera.unproject(w, h, sx, sy, depth as f64));
         gb.motion.extend(f.ssr_camera.motion(&f.ssr_previous, w, h, sx, sy, point));
-        let glossy = px[9] != 0.0;
-        let (weight, same, samples) = (px[22], px[23], px[24]);
+        let glossy = px[layout::GLOSSY] != 0.0;
+        gb.depth_far.as_mut().expect("allocated above").push(px[layout::DEPTH_FAR]);
+        let (weight, same, samples) = (px[layout::WEIGHT], px[layout::WEIGHT_SAME], px[layout::SAMPLES]);
         if !glossy || !(weight > 0.0) {
             r.all.extend_from_slice(&f.fallback);
             r.onscreen.extend_from_slice(&f.fallback);
@@ -198,10 +200,10 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
             r.specular_onscreen.extend_from_slice(&[0.0; 3]);
             r.onscreen_fraction.push(if glossy { 1.0 } else { 0.0 });
         } else {
-            r.all.extend(px[10..13].iter().map(|v| v / weight));
-            r.onscreen.extend(px[13..16].iter().map(|v| v / weight));
-            r.specular_all.extend(px[16..19].iter().map(|v| v / samples));
-            r.specular_onscreen.extend(px[19..22].iter().map(|v| v / samples));
+            r.all.extend(px[layout::ALL..layout::ALL + 3].iter().map(|v| v / weight));
+            r.onscreen.extend(px[layout::ONSCREEN..layout::ONSCREEN + 3].iter().map(|v| v / weight));
+            r.specular_all.extend(px[layout::SPECULAR_ALL..layout::SPECULAR_ALL + 3].iter().map(|v| v / samples));
+            r.specular_onscreen.extend(px[layout::SPECULAR_ONSCREEN..layout::SPECULAR_ONSCREEN + 3].iter().map(|v| v / samples));
             r.onscreen_fraction.push(same / weight);
         }
         r.glossy.push(glossy);
@@ -312,7 +314,7 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
     let (sums, gbuffer_time, noise) = r?;
     let reference = reference.map(|r| ReferenceFile { noise_rel: noise, ..r });
     let gbuffer_wall = t1.elapsed().as_secs_f64();
-    let rays: f64 = sums.values.chunks_exact(GBUFFER_STRIDE).map(|p| p[GBUFFER_STRIDE - 1] as f64).sum();
+    let rays: f64 = sums.values.chunks_exact(GBUFFER_STRIDE).map(|p| p[layout::RAYS] as f64).sum();
     let (gbuffer, reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: spec.fallback }, reference)?;
     Ok(Exported { gbuffer, reference, gbuffer_time, gbuffer_wall, rays, previous_seconds })
 }
@@ -324,14 +326,14 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
 pub fn noise_floor(a: &GBufferSums, b: &GBufferSums) -> Option<f64> {
     let (mut d2, mut r2) = (0.0f64, 0.0f64);
     for (x, y) in a.values.chunks_exact(GBUFFER_STRIDE).zip(b.values.chunks_exact(GBUFFER_STRIDE)) {
-        let (wa, wb) = (f64::from(x[22]), f64::from(y[22]));
-        if x[9] == 0.0 || !(wa > 0.0) || !(wb > 0.0) {
+        let (wa, wb) = (f64::from(x[layout::WEIGHT]), f64::from(y[layout::WEIGHT]));
+        if x[layout::GLOSSY] == 0.0 || !(wa > 0.0) || !(wb > 0.0) {
             continue;
         }
-        for k in 10..13 {
-            let (ra, rb) = (f64::from(x[k]) / wa, f64::from(y[k]) / wb);
+        for c in layout::ALL..layout::ALL + 3 {
+            let (ra, rb) = (f64::from(x[c]) / wa, f64::from(y[c]) / wb);
             d2 += (ra - rb).powi(2) / 4.0;
-            r2 += ((f64::from(x[k]) + f64::from(y[k])) / (wa + wb)).powi(2);
+            r2 += ((f64::from(x[c]) + f64::from(y[c])) / (wa + wb)).powi(2);
         }
     }
     (r2 > 0.0).then(|| (d2 / r2).sqrt())

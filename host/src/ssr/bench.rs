@@ -833,12 +833,12 @@ pub fn run_wall(a: &WallArgs) -> Result<()> {
         let gbuf = g.packed();
         let separate = || -> Result<f64> {
             let t0 = std::time::Instant::now();
-            super::pipeline::Runner::new(&gpu).sssr_frame_passes_separately(&consts, &gbuf, &g.depth, &g.color)?;
+            super::pipeline::Runner::new(&gpu).sssr_frame_passes_separately(&consts, &gbuf, &g.depth_layers(), &g.color)?;
             Ok(t0.elapsed().as_secs_f64() * 1e3)
         };
         let chained = || -> Result<f64> {
             let t0 = std::time::Instant::now();
-            super::pipeline::Runner::new(&gpu).sssr_frame_passes(&consts, &gbuf, &g.depth, &g.color)?;
+            super::pipeline::Runner::new(&gpu).sssr_frame_passes(&consts, &gbuf, &g.depth_layers(), &g.color)?;
             Ok(t0.elapsed().as_secs_f64() * 1e3)
         };
         separate()?;

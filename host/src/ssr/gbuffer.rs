@@ -11,6 +11,13 @@
 //! colour is the previous frame's HDR colour (what HDRP's colour pyramid holds when SSR runs);
 //! motion vectors are UV(current) - UV(previous); base colour and metalness give the glTF
 //! metal-rough F0 = mix(0.04, base colour, metalness) of the specular (FG) pass.
+//!
+//! Optional channel [`DEPTH_FAR_CHANNEL`]: the far depth, the largest linear view depth that the
+//! object seen at the pixel centre shows within one pixel of it (the maximum over primary rays
+//! through a 5x5 grid of points in [-1, 1]^2 px around the centre that hit the same object;
+//! >= `depth`; `+inf` for the sky): the depth extent of the texel's visible surface. The
+//! tracers' mip-0 slab then ends where that surface does (`shader_core::ssr::trace::slab_base`);
+//! G-buffers without it keep HDRP's constant slab.
 
 use super::camera::Camera;
 use crate::io::{read_exr, write_exr};
@@ -18,11 +25,15 @@ use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// EXR channel names, in the order of the fields they fill.
+/// EXR channel names, in the order of the fields they fill (the optional [`DEPTH_FAR_CHANNEL`]
+/// follows them when present).
 pub const CHANNELS: [&str; 14] = [
     "depth", "normal.X", "normal.Y", "normal.Z", "roughness", "metalness", "basecolor.R", "basecolor.G", "basecolor.B",
     "color.R", "color.G", "color.B", "motion.X", "motion.Y",
 ];
+
+/// EXR channel of the optional far depth ([`GBuffer::depth_far`]).
+pub const DEPTH_FAR_CHANNEL: &str = "depth_far";
 
 /// A G-buffer and its cameras. Per-pixel vectors are interleaved; rows top to bottom.
 #[derive(Clone, Debug)]
@@ -30,6 +41,8 @@ pub struct GBuffer {
     pub width: usize,
     pub height: usize,
     pub depth: Vec<f32>,
+    /// Optional far depth per pixel (see the module doc): >= `depth`, `+inf` where `depth` is.
+    pub depth_far: Option<Vec<f32>>,
     /// World-space normal, 3 per pixel.
     pub normal: Vec<f32>,
     pub roughness: Vec<f32>,
@@ -130,6 +143,16 @@ impl GBuffer {
                 }
             }
         }
+        if let Some(far) = &self.depth_far {
+            if far.len() != n {
+                bail!("G-buffer size mismatch: depth_far has {} values, expected {n} for {}x{}", far.len(), self.width, self.height);
+            }
+            for (i, (&zf, &z)) in far.iter().zip(&self.depth).enumerate() {
+                if !(zf >= z) {
+                    bail!("G-buffer depth_far must be >= depth (+inf for the sky), got {zf} for depth {z} at {}", at(i));
+                }
+            }
+        }
         for (name, data) in [("roughness", &self.roughness), ("metalness", &self.metalness)] {
             if let Some((i, v)) = data.iter().enumerate().find(|(_, v)| !(**v >= 0.0 && **v <= 1.0)) {
                 bail!("G-buffer {name} must be in [0, 1], got {v} at {}", at(i));
@@ -155,6 +178,16 @@ impl GBuffer {
             }
         }
         Ok(())
+    }
+
+    /// The depth input of the depth pyramid (`super::pipeline::Runner::depth_pyramid`): the
+    /// depth, followed by the far depth when the G-buffer has one.
+    pub fn depth_layers(&self) -> Vec<f32> {
+        let mut d = self.depth.clone();
+        if let Some(far) = &self.depth_far {
+            d.extend_from_slice(far);
+        }
+        d
     }
 
     /// Pack depth, normal, roughness, metalness and motion into the kernels' G-buffer layout
@@ -197,6 +230,10 @@ impl GBuffer {
             ("motion.X", comp(&self.motion, 0, 2)),
             ("motion.Y", comp(&self.motion, 1, 2)),
         ];
+        let mut chans = chans;
+        if let Some(far) = &self.depth_far {
+            chans.push((DEPTH_FAR_CHANNEL, far.clone()));
+        }
         let refs: Vec<(&str, &[f32])> = chans.iter().map(|(n, d)| (*n, d.as_slice())).collect();
         write_exr(exr, self.width, self.height, &refs)?;
         let cams = CameraFile {
@@ -252,6 +289,10 @@ impl GBuffer {
             width: img.width,
             height: img.height,
             depth: get("depth")?,
+            depth_far: match img.channels.iter().any(|(c, _)| c == DEPTH_FAR_CHANNEL) {
+                true => Some(get(DEPTH_FAR_CHANNEL)?),
+                false => None,
+            },
             normal: inter(&["normal.X", "normal.Y", "normal.Z"])?,
             roughness: get("roughness")?,
             metalness: get("metalness")?,

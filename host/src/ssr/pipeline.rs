@@ -81,6 +81,12 @@ pub struct SsrSettings {
     pub hiz_max_mip: u32,
     /// Reject hits on surfaces facing away from the ray.
     pub backface_reject: bool,
+    /// Use the G-buffer's far depth, when it has one, as the end of the mip-0 slab (the slab
+    /// ends where the texel's visible surface does; `shader_core::ssr::trace::slab_base`);
+    /// otherwise, or without one, HDRP's constant slab of `thickness`.
+    pub far_depth: bool,
+    /// With the far depth: the thinnest mip-0 slab, relative to the surface depth.
+    pub min_thickness: f32,
     pub frame: u32,
     /// The GGX visible-normal sampler of the stochastic rays (HDRP's non-approximate resolves and SSSR).
     pub sampler: VndfSampler,
@@ -125,11 +131,16 @@ impl Default for SsrSettings {
             hiz_max_iterations: 64,
             hiz_max_mip: 16,
             backface_reject: true,
+            far_depth: true,
+            min_thickness: MIN_THICKNESS,
             frame: 0,
             sampler: VndfSampler::Heitz,
         }
     }
 }
+
+/// Default [`SsrSettings::min_thickness`].
+pub const MIN_THICKNESS: f32 = 0.001;
 
 /// Number of levels of a full pyramid over w x h (down to 1x1).
 pub fn mip_levels(w: u32, h: u32) -> u32 {
@@ -143,6 +154,28 @@ pub fn mip_levels(w: u32, h: u32) -> u32 {
 /// Texels in a full pyramid.
 pub fn pyramid_texels(w: u32, h: u32) -> usize {
     (0..mip_levels(w, h)).map(|l| (mip_size(w, l) * mip_size(h, l)) as usize).sum()
+}
+
+/// The depth-pyramid buffer before its mips are built: level 0 = the first width x height values
+/// of `depth`, and, where `p` has a far-depth layer, the next width x height values at
+/// [`SsrParams::far_depth_offset`] (after the last mip).
+pub fn depth_pyramid_init(p: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
+    let n = (p.width * p.height) as usize;
+    let total = pyramid_texels(p.width, p.height);
+    let far = p.far_depth_offset as usize;
+    if far == 0 {
+        anyhow::ensure!(depth.len() == n || depth.len() == 2 * n, "depth has {} values, expected {n}", depth.len());
+        let mut pyr = vec![0.0f32; total];
+        pyr[..n].copy_from_slice(&depth[..n]);
+        Ok(pyr)
+    } else {
+        anyhow::ensure!(far == total, "far-depth offset {far} is not the pyramid's size {total}");
+        anyhow::ensure!(depth.len() == 2 * n, "depth has {} values, expected {} (depth and far depth)", depth.len(), 2 * n);
+        let mut pyr = vec![0.0f32; total + n];
+        pyr[..n].copy_from_slice(&depth[..n]);
+        pyr[total..].copy_from_slice(&depth[n..]);
+        Ok(pyr)
+    }
 }
 
 /// The parameter buffer for `gb` and `s` (pipeline-specific values are set by the caller).
@@ -185,6 +218,10 @@ pub fn build_params(gb: &GBuffer, s: &SsrSettings) -> Result<Vec<f32>> {
     b[idx::HISTORY_NORMAL_COS] = 0.9;
     b[idx::HISTORY_ROUGHNESS_TOLERANCE] = 0.05;
     b[idx::TEMPORAL_REPROJECTION] = u(params::REPROJECT_HIT);
+    // The far-depth layer follows the pyramid's mips in the depth-pyramid buffer.
+    let far = gb.depth_far.is_some() && s.far_depth;
+    b[idx::FAR_DEPTH_OFFSET] = u(if far { pyramid_texels(w, h) as u32 } else { 0 });
+    b[idx::MIN_THICKNESS_SCALE] = 1.0 / (1.0 + s.min_thickness);
     let view = gb.camera.view();
     let proj = gb.camera.proj(gb.width, gb.height);
     let prev_proj = gb.previous_camera.proj(gb.width, gb.height);
@@ -274,12 +311,13 @@ impl<'a> Runner<'a> {
         r
     }
 
-    /// The min-linear-depth pyramid of `depth` (level 0 = depth), all levels packed.
+    /// The min-linear-depth pyramid of `depth` (level 0 = depth), all levels packed, followed by
+    /// the far-depth layer where the parameters have one (`depth` is then
+    /// [`GBuffer::depth_layers`]: the depth, then the far depth).
     pub fn depth_pyramid(&mut self, consts: &[f32], depth: &[f32]) -> Result<Vec<f32>> {
         let p = SsrParams::load(consts);
-        let total = pyramid_texels(p.width, p.height);
-        let mut pyr = vec![0.0f32; total];
-        pyr[..depth.len()].copy_from_slice(depth);
+        let mut pyr = depth_pyramid_init(&p, depth)?;
+        let total = pyr.len();
         for level in 1..p.mip_count {
             let (w, h) = (mip_size(p.width, level), mip_size(p.height, level));
             let off = trace::p_mip_offset(&p, level) as usize;
@@ -439,7 +477,7 @@ pub fn run_hdrp(backend: &Backend, gb: &GBuffer, s: &SsrSettings, trace_mode: Tr
     }
     let gbuf = gb.packed();
     let mut r = Runner::new(backend);
-    let depth_pyramid = r.depth_pyramid(&consts, &gb.depth)?;
+    let depth_pyramid = r.depth_pyramid(&consts, &gb.depth_layers())?;
     let color_pyramid = r.color_pyramid(&consts, &gb.color)?;
     let rays = r.hdrp_trace(&consts, &gbuf, &depth_pyramid)?;
     let reflection = r.hdrp_reproject(&consts, &gbuf, &color_pyramid, &rays, resolve_mode)?;

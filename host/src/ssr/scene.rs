@@ -151,7 +151,62 @@ fn intersect(shape: &Shape, o: V3, d: V3, t_min: f64) -> Option<(f64, V3)> {
     }
 }
 
+/// Bisection steps of [`Scene::far_depth`] towards an outline between two grid points.
+pub const FAR_DEPTH_BISECTIONS: u32 = 16;
+
 impl Scene {
+    /// The G-buffer's far depth of the pixel centre (sx, sy) whose primary ray hit `h` at view
+    /// depth `z`: the largest view depth of the same object over the primary rays through a
+    /// `FAR_DEPTH_GRID`^2 grid spanning [-r, r]^2 pixels around the centre (r =
+    /// `FAR_DEPTH_RADIUS`, both `shader_core::ssr::trace`), and, between two neighbouring grid
+    /// points of which only one sees the object, at the object's outline on that segment (found
+    /// by bisection to 2^-[`FAR_DEPTH_BISECTIONS`] of the grid spacing: near an outline the depth
+    /// grows like a square root, which the grid alone misses), i.e. the depth extent of the
+    /// surface the pixel shows, visible, near it (`super::gbuffer`'s `depth_far`).
+    pub fn far_depth(&self, cam: &Camera, width: usize, height: usize, sx: f64, sy: f64, h: &Hit, z: f64) -> f64 {
+        use shader_core::ssr::trace::{FAR_DEPTH_GRID, FAR_DEPTH_RADIUS};
+        let eye = cam.eye();
+        let (k, radius) = (FAR_DEPTH_GRID as usize - 1, f64::from(FAR_DEPTH_RADIUS));
+        let at = |ox: f64, oy: f64| -> Option<f64> {
+            let d = cam.ray_dir(width, height, sx + ox, sy + oy);
+            self.cast(eye, d, 1e-9).filter(|hs| hs.object == h.object).map(|hs| cam.to_view(hs.p)[2])
+        };
+        let offset = |a: usize| radius * (2.0 * a as f64 / k as f64 - 1.0);
+        let grid: Vec<Option<f64>> = (0..=k).flat_map(|b| (0..=k).map(move |a| (a, b))).map(|(a, b)| at(offset(a), offset(b))).collect();
+        let mut far = grid.iter().flatten().fold(z, |m, &v| m.max(v));
+        for b in 0..=k {
+            for a in 0..=k {
+                for (a2, b2) in [(a + 1, b), (a, b + 1)] {
+                    if a2 > k || b2 > k {
+                        continue;
+                    }
+                    let (p, q) = (grid[b * (k + 1) + a], grid[b2 * (k + 1) + a2]);
+                    if p.is_some() == q.is_some() {
+                        continue;
+                    }
+                    // Bisect from the grid point on the object (in) towards the one off it (out).
+                    let (mut inp, mut out) = ((offset(a), offset(b)), (offset(a2), offset(b2)));
+                    let mut depth = p.or(q).expect("one of the two sees the object");
+                    if p.is_none() {
+                        std::mem::swap(&mut inp, &mut out);
+                    }
+                    for _ in 0..FAR_DEPTH_BISECTIONS {
+                        let mid = (0.5 * (inp.0 + out.0), 0.5 * (inp.1 + out.1));
+                        match at(mid.0, mid.1) {
+                            Some(v) => {
+                                inp = mid;
+                                depth = v;
+                            }
+                            None => out = mid,
+                        }
+                    }
+                    far = far.max(depth);
+                }
+            }
+        }
+        far
+    }
+
     /// The nearest hit along the unit ray o + t d with t > t_min.
     pub fn cast(&self, o: V3, d: V3, t_min: f64) -> Option<Hit> {
         let mut best: Option<Hit> = None;
@@ -200,15 +255,15 @@ impl Scene {
     }
 
     /// Render the G-buffer of frame `frame` at `width` x `height`: primary rays through pixel
-    /// centres; the colour buffer is rendered from the previous frame's camera (frame - 1 for
-    /// animated scenes), motion vectors from reprojecting each pixel's point (or direction, for
+    /// centres (with the far depth of [`Scene::far_depth`]); the colour buffer is rendered from
+    /// the previous frame's camera (frame - 1 for animated scenes), motion vectors from reprojecting each pixel's point (or direction, for
     /// the sky) with the previous camera.
     pub fn render_gbuffer(&self, width: usize, height: usize, frame: u32) -> GBuffer {
         let cam = self.camera(frame);
         let prev = if self.animated() && frame > 0 { self.camera(frame - 1) } else { cam };
         let eye = cam.eye();
         let n = width * height;
-        let rows: Vec<(f32, [f32; 3], f32, f32, [f32; 3], [f32; 2])> = (0..n)
+        let rows: Vec<(f32, f32, [f32; 3], f32, f32, [f32; 3], [f32; 2])> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let (x, y) = (i % width, i / width);
@@ -219,8 +274,10 @@ impl Scene {
                         let v = cam.to_view(h.p);
                         let m = &self.objects[h.object].material;
                         let mv = cam.motion(&prev, width, height, sx, sy, Some(h.p));
+                        let far = self.far_depth(&cam, width, height, sx, sy, &h, v[2]);
                         (
                             v[2] as f32,
+                            (far as f32).max(v[2] as f32),
                             [h.n[0] as f32, h.n[1] as f32, h.n[2] as f32],
                             m.roughness_at(h.p),
                             m.metalness,
@@ -228,7 +285,7 @@ impl Scene {
                             mv,
                         )
                     }
-                    None => (f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, [0.0; 3], cam.motion(&prev, width, height, sx, sy, None)),
+                    None => (f32::INFINITY, f32::INFINITY, [0.0, 1.0, 0.0], 1.0, 0.0, [0.0; 3], cam.motion(&prev, width, height, sx, sy, None)),
                 }
             })
             .collect();
@@ -237,6 +294,7 @@ impl Scene {
             width,
             height,
             depth: Vec::with_capacity(n),
+            depth_far: Some(Vec::with_capacity(n)),
             normal: Vec::with_capacity(3 * n),
             roughness: Vec::with_capacity(n),
             metalness: Vec::with_capacity(n),
@@ -248,8 +306,9 @@ impl Scene {
             fallback: self.sky,
             reference: None,
         };
-        for (z, nn, r, m, bc, mv) in rows {
+        for (z, zb, nn, r, m, bc, mv) in rows {
             g.depth.push(z);
+            g.depth_far.as_mut().unwrap().push(zb);
             g.normal.extend_from_slice(&nn);
             g.roughness.push(r);
             g.metalness.push(m);

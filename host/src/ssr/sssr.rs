@@ -3,7 +3,7 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, pass_args, pyramid_texels, set_u32, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, depth_pyramid_init, pass_args, pyramid_texels, set_u32, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass};
@@ -223,8 +223,7 @@ impl Runner<'_> {
         let scan_args = scan_pass_args(n);
         let pixel_args = args_for(pixels, &[]);
         let total = pyramid_texels(p.width, p.height);
-        let mut depth_init = vec![0.0f32; total];
-        depth_init[..depth.len()].copy_from_slice(depth);
+        let depth_init = depth_pyramid_init(&p, depth)?;
         let mut color_init = vec![0.0f32; total * COLOR_STRIDE];
         color_init[..color.len()].copy_from_slice(color);
         let zeros = vec![0.0f32; slots * RAY_STRIDE];
@@ -234,7 +233,7 @@ impl Runner<'_> {
             ChainBuffer::Input(bytemuck::cast_slice(&tile_args)),
             ChainBuffer::Input(bytemuck::cast_slice(&scan_args)),
             ChainBuffer::Input(bytemuck::cast_slice(&pixel_args)),
-            chain_out(total * 4, Some(bytemuck::cast_slice(&depth_init))),
+            chain_out(depth_init.len() * 4, Some(bytemuck::cast_slice(&depth_init))),
             chain_out(total * COLOR_STRIDE * 4, Some(bytemuck::cast_slice(&color_init))),
             chain_out(n * TILE_STRIDE * 4, None),
             chain_out((n + 1) * 4, None),
@@ -498,7 +497,7 @@ pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSett
     let gbuf = gb.packed();
     let mut r = Runner::new(backend);
     let FramePasses { depth_pyramid, color_pyramid, tiles, list, count, rays, reflection, .. } =
-        r.sssr_frame_passes(&consts, &gbuf, &gb.depth, &gb.color)?;
+        r.sssr_frame_passes(&consts, &gbuf, &gb.depth_layers(), &gb.color)?;
     let n_tiles = tiles.len() / TILE_STRIDE;
     let classes: Vec<u32> = tiles.chunks_exact(TILE_STRIDE).map(|c| c[0].to_bits()).collect();
     let stats = TileStats {

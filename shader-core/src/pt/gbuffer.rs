@@ -26,7 +26,7 @@ use super::bvh;
 use super::camera::Camera;
 use super::integrator::{sample_rng, trace_path, RenderParams, SHADOW_EPSILON};
 use super::ray::{offset_origin, Ray};
-use super::scene::NONE;
+use super::scene::{self, NONE};
 use super::surface;
 use crate::fresnel::{reflect, schlick_rgb};
 use crate::ieee;
@@ -59,6 +59,14 @@ pub struct GBufferParams {
 pub struct GBufferPixel {
     /// Linear view depth (along the camera's forward axis), +inf for the sky.
     pub depth: f32,
+    /// Far depth (`host::ssr::gbuffer`'s `depth_far`): the largest linear view depth among the
+    /// primary rays through the [`crate::ssr::trace::FAR_DEPTH_GRID`]^2 grid over
+    /// [-r, r]^2 px around the centre (r = [`crate::ssr::trace::FAR_DEPTH_RADIUS`]) that hit a
+    /// triangle of the centre's material (the scene records no object ids; a material stands for
+    /// the object) and at that material's outlines between grid points ([`far_depth`]), at
+    /// least `depth`; +inf for the sky. Computed in the launch of sample 0 only (later launches
+    /// return `depth` here).
+    pub depth_far: f32,
     /// World shading normal (the sky: +y).
     pub normal: Vec3,
     /// Perceptual roughness (the sky: 1).
@@ -110,6 +118,103 @@ pub fn visible_on_screen(sc: &[u32], camera: &Camera, width: u32, height: u32, p
     !bvh::occluded(sc, &Ray::new(camera.origin, to / dist), dist * (1.0 - SHADOW_EPSILON))
 }
 
+/// Bisection steps of [`far_depth`] towards an outline between two grid points (the analytic
+/// scenes' `host::ssr::scene::FAR_DEPTH_BISECTIONS`).
+pub const FAR_DEPTH_BISECTIONS: u32 = 16;
+
+/// View depth of the first hit of the primary ray through screen point (sx, sy) when it is a
+/// triangle of `material`, else -1.
+#[inline]
+fn far_sample(sc: &[u32], camera: &Camera, width: u32, height: u32, sx: f32, sy: f32, material: u32) -> f32 {
+    let ray = camera.ray(sx, sy, width, height);
+    let h = bvh::closest_hit(sc, &ray, f32::INFINITY);
+    if h.tri != NONE && scene::word(sc, scene::shading(sc, h.tri, scene::S_MATERIAL)) == material {
+        camera.depth(ray.d, h.t)
+    } else {
+        -1.0
+    }
+}
+
+/// The depth at the outline of `material` between screen points (ax, ay), where the view depth
+/// is `za` (-1: not on it), and (bx, by), where it is `zb`: bisection from the point on it
+/// towards the other ([`FAR_DEPTH_BISECTIONS`] steps); -1 when both or neither are on it.
+/// Also returns the rays cast.
+#[allow(clippy::too_many_arguments)]
+fn far_outline(sc: &[u32], camera: &Camera, width: u32, height: u32, ax: f32, ay: f32, za: f32, bx: f32, by: f32, zb: f32, material: u32) -> (f32, f32) {
+    if (za >= 0.0) == (zb >= 0.0) {
+        return (-1.0, 0.0);
+    }
+    let (mut ix, mut iy, mut ox, mut oy, mut z) = if za >= 0.0 { (ax, ay, bx, by, za) } else { (bx, by, ax, ay, zb) };
+    let mut i = 0;
+    while i < FAR_DEPTH_BISECTIONS {
+        let mx = 0.5 * (ix + ox);
+        let my = 0.5 * (iy + oy);
+        let zm = far_sample(sc, camera, width, height, mx, my, material);
+        if zm >= 0.0 {
+            ix = mx;
+            iy = my;
+            z = zm;
+        } else {
+            ox = mx;
+            oy = my;
+        }
+        i += 1;
+    }
+    (z, FAR_DEPTH_BISECTIONS as f32)
+}
+
+/// The far depth of pixel (x, y) whose centre ray hit triangle `tri` at depth `depth` (see
+/// [`GBufferPixel::depth_far`]), and the number of rays it cast: the grid of
+/// [`crate::ssr::trace::FAR_DEPTH_GRID`]^2 primary rays, and between neighbouring grid points of
+/// which only one sees the centre's material, the outline found by `far_outline` (the
+/// vertical neighbour is cast again rather than stored: kernels keep no indexed local arrays).
+#[allow(clippy::too_many_arguments)]
+pub fn far_depth(sc: &[u32], camera: &Camera, width: u32, height: u32, x: u32, y: u32, tri: u32, depth: f32) -> (f32, f32) {
+    use crate::ssr::trace::{FAR_DEPTH_GRID, FAR_DEPTH_RADIUS};
+    let material = scene::word(sc, scene::shading(sc, tri, scene::S_MATERIAL));
+    let k = (FAR_DEPTH_GRID - 1) as f32;
+    let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+    let mut far = depth;
+    let mut rays = 0.0;
+    let mut b: u32 = 0;
+    while b < FAR_DEPTH_GRID {
+        let sy = cy + FAR_DEPTH_RADIUS * (ieee::div(2.0 * b as f32, k) - 1.0);
+        let sy_up = cy + FAR_DEPTH_RADIUS * (ieee::div(2.0 * b as f32 - 2.0, k) - 1.0);
+        let mut left = -1.0;
+        let mut left_x = 0.0;
+        let mut a: u32 = 0;
+        while a < FAR_DEPTH_GRID {
+            let sx = cx + FAR_DEPTH_RADIUS * (ieee::div(2.0 * a as f32, k) - 1.0);
+            let z = far_sample(sc, camera, width, height, sx, sy, material);
+            rays = rays + 1.0;
+            if z > far {
+                far = z;
+            }
+            if a > 0 {
+                let (zo, n) = far_outline(sc, camera, width, height, left_x, sy, left, sx, sy, z, material);
+                rays = rays + n;
+                if zo > far {
+                    far = zo;
+                }
+            }
+            if b > 0 {
+                let up = far_sample(sc, camera, width, height, sx, sy_up, material);
+                rays = rays + 1.0;
+                let (zo, n) = far_outline(sc, camera, width, height, sx, sy_up, up, sx, sy, z, material);
+                rays = rays + n;
+                if zo > far {
+                    far = zo;
+                }
+            }
+            left = z;
+            left_x = sx;
+            a += 1;
+        }
+        b += 1;
+    }
+    (far, rays)
+}
+
 /// Pixel `pixel` (row-major from the top-left): the first hit through its centre and
 /// reference samples `sample_base .. sample_base + spp`.
 #[inline]
@@ -119,6 +224,7 @@ pub fn gbuffer_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &GBufferParams, pi
     let primary = r.camera.ray(x as f32 + 0.5, y as f32 + 0.5, r.width, r.height);
     let mut out = GBufferPixel {
         depth: f32::INFINITY,
+        depth_far: f32::INFINITY,
         normal: Vec3::new(0.0, 1.0, 0.0),
         roughness: 1.0,
         rays: 1.0,
@@ -130,6 +236,15 @@ pub fn gbuffer_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &GBufferParams, pi
     }
     let sp = surface::surface_point(sc, hit.tri, hit.b1, hit.b2, primary.d);
     out.depth = r.camera.depth(primary.d, hit.t);
+    // The far depth's rays (about 45 per pixel) are cast in the launch of sample 0 only: every
+    // launch returns the same first hit, and the host keeps the first launch's G-buffer.
+    if r.sample_base == 0 {
+        let (far, far_rays) = far_depth(sc, &r.camera, r.width, r.height, x, y, hit.tri, out.depth);
+        out.depth_far = far;
+        out.rays = out.rays + far_rays;
+    } else {
+        out.depth_far = out.depth;
+    }
     out.normal = sp.ns;
     out.roughness = sp.material.roughness;
     out.metallic = sp.material.metallic;

@@ -86,6 +86,10 @@ pub mod idx {
     pub const TEMPORAL_REPROJECTION: usize = 27;
     /// Word of [`super::SsrParams::history_roughness_tolerance`] (an `f32`).
     pub const HISTORY_ROUGHNESS_TOLERANCE: usize = 28;
+    /// Word of [`super::SsrParams::far_depth_offset`] (a `u32` stored as its bits).
+    pub const FAR_DEPTH_OFFSET: usize = 29;
+    /// Word of [`super::SsrParams::min_thickness_scale`] (an `f32`).
+    pub const MIN_THICKNESS_SCALE: usize = 30;
     /// First of the 16 row-major words of [`super::SsrParams::view`].
     pub const VIEW: usize = 32;
     /// First of the 16 row-major words of [`super::SsrParams::proj`].
@@ -96,7 +100,7 @@ pub mod idx {
     pub const PREV_PROJ: usize = 80;
     /// First of the 16 row-major words of [`super::SsrParams::prev_inv_view`].
     pub const PREV_INV_VIEW: usize = 96;
-    /// Number of `f32` words in the parameter buffer (indices 29-31 are unused padding).
+    /// Number of `f32` words in the parameter buffer (index 31 is unused padding).
     pub const LEN: usize = 112;
 }
 
@@ -208,6 +212,16 @@ pub struct SsrParams {
     /// History rejection: largest difference of perceptual roughness between the pixel and the
     /// history texel's surface (negative: no roughness test).
     pub history_roughness_tolerance: f32,
+    /// Texel offset, in the depth-pyramid buffer, of the far-depth layer appended after the
+    /// pyramid's mips (width x height linear depths: the farthest depth the surface seen at each
+    /// pixel reaches, visibly, within one pixel of its centre; `+inf` for the sky); 0 when there is
+    /// none (then every level uses the constant slab of `thickness_scale`, HDRP's rule). See
+    /// [`crate::ssr::trace::slab_base`].
+    pub far_depth_offset: u32,
+    /// With a far-depth layer: the device-depth scale of the thinnest slab a mip-0 texel gets,
+    /// 1 / (1 + min_thickness) (HDRP's form of `thickness_scale`), so surfaces seen face-on (far
+    /// depth = depth) keep a slab against rounding; 1 gives no minimum.
+    pub min_thickness_scale: f32,
     /// World-to-view transform of the current frame.
     pub view: Mat4,
     /// View-to-clip projection of the current frame (reverse-Z infinite perspective).
@@ -259,6 +273,8 @@ impl SsrParams {
             history_normal_cos: b[idx::HISTORY_NORMAL_COS],
             temporal_reprojection: u(b, idx::TEMPORAL_REPROJECTION),
             history_roughness_tolerance: b[idx::HISTORY_ROUGHNESS_TOLERANCE],
+            far_depth_offset: u(b, idx::FAR_DEPTH_OFFSET),
+            min_thickness_scale: b[idx::MIN_THICKNESS_SCALE],
             view: Mat4::load(b, idx::VIEW),
             proj: Mat4::load(b, idx::PROJ),
             inv_view: Mat4::load(b, idx::INV_VIEW),

@@ -8,6 +8,10 @@
 //! given a thickness: it occupies d in [d_s * thickness_scale + thickness_bias, d_s] (HDRP:
 //! `_SsrThicknessScale = 1 / (1 + thickness)`, bias 0 for an infinite far plane), so a point is
 //! "inside" a surface when it lies behind it by at most `thickness` times its linear depth.
+//! When the G-buffer carries a far depth (the farthest depth the surface seen at each pixel
+//! reaches, visibly, within one pixel of its centre: the texel's depth extent), the mip-0 slab
+//! ends there instead ([`slab_base`]), so a grazing outline texel's slab ends where its visible
+//! surface does.
 //!
 //! ```
 //! use shader_core::ssr::params::{idx, SsrParams};
@@ -220,6 +224,36 @@ pub fn pyramid_depth(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32) -
     device_depth(p, pyr[(base + cy * w + cx) as usize])
 }
 
+/// Half-width, in pixels, of the square around a pixel centre over which a G-buffer's far depth
+/// is taken (one pixel: a ray that crosses a surface between two texel centres crosses it within
+/// that distance of both). The G-buffer producers (`host`'s analytic scenes,
+/// [`crate::pt::gbuffer::gbuffer_pixel`]) use it.
+pub const FAR_DEPTH_RADIUS: f32 = 1.0;
+/// Primary rays per side of the square grid over [-FAR_DEPTH_RADIUS, FAR_DEPTH_RADIUS]^2 px
+/// (offsets -1, -0.5, 0, 0.5, 1 px) whose largest depth on the centre's object, together with the
+/// object's outline depth between neighbouring grid points, is the far depth.
+pub const FAR_DEPTH_GRID: u32 = 5;
+
+/// Device depth where the thickness slab of the surface in cell (cx, cy) of `level` ends: a ray
+/// point at device depth in [slab_base, floor_d] is inside that surface. At mip 0 with a
+/// far-depth layer ([`SsrParams::far_depth_offset`]), the texel's far depth (the farthest depth
+/// its visible surface reaches within one pixel of the centre: a ray crossing that surface
+/// between two texel centres is found there, while a ray that reaches a grazing outline texel
+/// behind it passes under or behind the object, or hits a side of it hidden from the camera,
+/// which the screen does not hold; docs/ssr.md, "Comb fringes"), made at least
+/// [`SsrParams::min_thickness_scale`] thick; otherwise (coarse mips, whose min pyramid bounds
+/// the closest surface, or no layer) HDRP's constant slab `floor_d * thickness_scale +
+/// thickness_bias` (`ScreenSpaceReflections.compute`). A NaN far depth gives the minimum slab.
+#[inline]
+pub fn slab_base(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32, floor_d: f32) -> f32 {
+    if level == 0 && p.far_depth_offset != 0 {
+        let far_d = device_depth(p, pyr[(p.far_depth_offset + cy * p.width + cx) as usize]);
+        minf(far_d, floor_d * p.min_thickness_scale)
+    } else {
+        floor_d * p.thickness_scale + p.thickness_bias
+    }
+}
+
 /// Offset (in texels) of mip `level` in a packed pyramid: the sum of the sizes of the levels
 /// before it (the host packs its pyramids the same way).
 #[inline]
@@ -294,7 +328,7 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
         let cx = if cx < w { cx } else { w - 1 };
         let cy = if cy < h { cy } else { h - 1 };
         let floor_d = pyramid_depth(p, pyr, mip, cx, cy);
-        let base_d = floor_d * p.thickness_scale + p.thickness_bias;
+        let base_d = slab_base(p, pyr, mip, cx, cy, floor_d);
         let wall_x = ((cx + step_x) << mip) as f32;
         let wall_y = ((cy + step_y) << mip) as f32;
         let dist_wall = minf((wall_x - o.x) * rcp.x, (wall_y - o.y) * rcp.y);
@@ -365,7 +399,7 @@ pub fn trace_linear(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, steps: u32, 
         let cx = floor_index(pos.x, p.width - 1);
         let cy = floor_index(pos.y, p.height - 1);
         let floor_d = pyramid_depth(p, pyr, 0, cx, cy);
-        let base_d = floor_d * p.thickness_scale + p.thickness_bias;
+        let base_d = slab_base(p, pyr, 0, cx, cy, floor_d);
         out.steps = i;
         let prev_z = o.z + dir.z * (t - dt);
         if floor_d > 0.0 && pos.z <= floor_d && (pos.z >= base_d || (crossing && prev_z >= floor_d)) {
@@ -403,7 +437,7 @@ pub fn trace_brute_force(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3) -> Trac
         let cx = floor_index(pos.x, p.width - 1);
         let cy = floor_index(pos.y, p.height - 1);
         let floor_d = pyramid_depth(p, pyr, 0, cx, cy);
-        let base_d = floor_d * p.thickness_scale + p.thickness_bias;
+        let base_d = slab_base(p, pyr, 0, cx, cy, floor_d);
         let t_exit = minf(
             ((cx + step_x) as f32 - o.x) * rcp.x,
             ((cy + step_y) as f32 - o.y) * rcp.y,
