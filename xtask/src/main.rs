@@ -107,8 +107,8 @@ const REPORTS: &[(&str, &[&str])] = &[
     (
         "ssr",
         &[
-            "ssr", "bench", "--device", "auto", "--width", "128", "--height", "128", "--reference-samples", "64", "--frame", "20", "--report",
-            "out/docs-reports/ssr_bench.md", "--plot", "docs/ssr_error_vs_time.png",
+            "ssr", "bench", "--device", "auto", "--width", "128", "--height", "128", "--reference-samples", "256", "--colour-spp", "64", "--frame",
+            "20", "--report", "out/docs-reports/ssr_bench.md", "--plot", "docs/ssr_error_vs_time.png",
         ],
     ),
 ];

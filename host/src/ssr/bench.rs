@@ -41,6 +41,10 @@ pub struct BenchArgs {
     /// glTF scenes: path-traced samples per pixel of the colour buffer (the previous frame).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub colour_spp: u32,
+    /// glTF scenes: samples per pixel of the colour buffers of the frames before the measured
+    /// one (the camera path's history and the view before a camera cut).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub history_colour_spp: u32,
     /// Image width in pixels (1 to 4096).
     #[arg(long, default_value_t = 192, value_parser = pixels)]
     pub width: usize,
@@ -228,8 +232,8 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
     let max_roughness = 1.0 - SsrSettings::default().min_smoothness;
     // One exported frame at `degrees` (previous frame at `previous_degrees`), reused from disk
     // when a file of the same settings exists.
-    let export = |tag: &str, degrees: f64, previous_degrees: f64, reference_spp: u32| -> Result<(GBuffer, Option<Reference>)> {
-        let file = a.scene_dir.join(format!("{}-{}x{}-{tag}-c{}-r{}.exr", which.name(), a.width, a.height, a.colour_spp, reference_spp));
+    let export = |tag: &str, degrees: f64, previous_degrees: f64, colour_spp: u32, reference_spp: u32| -> Result<(GBuffer, Option<Reference>)> {
+        let file = a.scene_dir.join(format!("{}-{}x{}-{tag}-c{colour_spp}-r{reference_spp}.exr", which.name(), a.width, a.height));
         if file.exists() {
             let g = GBuffer::load(&file)?;
             let r = match (g.reference_path(&file), &g.reference) {
@@ -243,8 +247,8 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
         let spec = FrameSpec {
             params: params(camera_at(degrees)?),
             previous: camera_at(previous_degrees)?,
-            spp: a.colour_spp,
-            spp_per_pass: a.colour_spp.min(8),
+            spp: colour_spp,
+            spp_per_pass: colour_spp.min(8),
             reference_spp,
             max_roughness,
             fallback: env.mean_radiance,
@@ -268,27 +272,28 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
         Ok((e.gbuffer, e.reference))
     };
     let f = frame as i64;
-    let (gb, reference) = export("main", angle(f), angle(f - 1), a.reference_samples)?;
+    let (gb, reference) = export("main", angle(f), angle(f - 1), a.colour_spp, a.reference_samples)?;
     let reference = reference.context("the measured frame's reference")?;
     let mut seq = Vec::new();
     if which.orbit().is_some() {
         for k in (f - 15).max(0)..f {
-            seq.push(export(&format!("f{k}"), angle(k), angle(k - 1), 0)?.0);
+            seq.push(export(&format!("f{k}"), angle(k), angle(k - 1), a.history_colour_spp, 0)?.0);
         }
     }
     let cut = angle(f) - 40.0;
-    let (cut_from, _) = export("cut", cut, cut, 0)?;
+    let (cut_from, _) = export("cut", cut, cut, a.history_colour_spp, 0)?;
     Ok(BenchInput {
         name: which.name().into(),
         sky: gb.fallback,
         frame,
         animated: which.orbit().is_some(),
         provenance: format!(
-            "glTF scene `{}` ({} triangles) path traced on the {} backend: colour {} spp, reference {} samples per glossy pixel (its own relative noise {}){}; camera cut from a view turned by 40 degrees; inputs ready in {:.1} s",
+            "glTF scene `{}` ({} triangles) path traced on the {} backend: colour {} spp (earlier frames {} spp), reference {} samples per glossy pixel (its own relative noise {}){}; camera cut from a view turned by 40 degrees; inputs ready in {:.1} s",
             path.display(),
             sc.counts.triangles,
             if matches!(backend, Backend::Cpu) { "CPU" } else { "GPU" },
             a.colour_spp,
+            a.history_colour_spp,
             a.reference_samples,
             gb.reference.as_ref().and_then(|r| r.noise_rel).map(|n| figure(n, 3)).unwrap_or_else(|| "n/a".into()),
             which.orbit().map(|d| format!("; camera orbiting {d} degrees per frame, frame {frame}")).unwrap_or_default(),
@@ -511,12 +516,16 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let info = crate::report::RunInfo::start(gpu_name.clone());
     // Energy tables for the specular column (default precompute, deterministic Sobol points).
     let lut = crate::energy::precompute(&cpu, &crate::energy::TableSpec::default(), false)?.0.lut_buffer();
+    // The glTF scenes' inputs are path traced on a hardware GPU if there is one, else on the
+    // CPU backend (a software adapter such as lavapipe path traces far slower than the CPU
+    // backend; the image is the same bits either way).
+    let exporter = if a.scenes.split(',').any(|n| GltfScene::by_name(n.trim()).is_some()) { Backend::select(DeviceChoice::Auto)? } else { Backend::Cpu };
     let mut all = Vec::new();
     let mut refs = Vec::new();
     for name in a.scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         eprintln!("scene {name}:");
         let input = match GltfScene::by_name(name) {
-            Some(g) => gltf_input(g, a, gpu.as_ref().unwrap_or(&cpu), &lut)?,
+            Some(g) => gltf_input(g, a, &exporter, &lut)?,
             None if super::scene::SCENES.contains(&name) => builtin_input(name, a)?,
             None => anyhow::bail!("--scenes: unknown scene {name:?}; built-in: {}; glTF: {}", super::scene::SCENES.join(", "), super::gltf_scenes::NAMES.join(", ")),
         };
@@ -551,13 +560,14 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) ->
     let _ = writeln!(s, "## Measured comparison (`host ssr bench`)\n");
     let _ = writeln!(
         s,
-        "Command: `cargo run --release -p host -- ssr bench --scenes {} --width {} --height {} --reference-samples {} --colour-spp {} --frame {}{} --report {} --plot {}` \
+        "Command: `cargo run --release -p host -- ssr bench --scenes {} --width {} --height {} --reference-samples {} --colour-spp {} --history-colour-spp {} --frame {}{} --report {} --plot {}` \
          ({}x{} pixels; reference: {} rays per glossy pixel).\n",
         a.scenes,
         a.width,
         a.height,
         a.reference_samples,
         a.colour_spp,
+        a.history_colour_spp,
         a.frame,
         a.configs.as_ref().map(|c| format!(" --configs {c}")).unwrap_or_default(),
         a.report.display(),
