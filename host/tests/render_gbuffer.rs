@@ -331,3 +331,43 @@ fn orthographic_cameras_are_refused_for_gbuffers() {
     let o = orbit(&camera(), [0.0, 0.0, 0.0], 90.0);
     assert!((o.position[0] - 3.5).abs() < 1e-5 && o.position[2].abs() < 1e-5, "{:?}", o.position);
 }
+
+/// The reference's noise estimate (two halves of its samples) predicts how far two independent
+/// references of the same pixels lie apart: per pixel E[(r1 - r2)^2] = 2 var, so the RMS
+/// difference of two seeds over sqrt(2) must match the estimated noise, within 25 %.
+#[test]
+fn reference_noise_estimate_matches_two_independent_references() {
+    use host::render::gbuffer::{export_frame, FrameSpec, Quiet};
+    use host::ssr::reference::noise_rel;
+    let scene = floor_scene(Material::pbr("glossy", [0.9, 0.9, 0.9], 1.0, 0.3), true);
+    let sky = [1.0, 0.9, 0.8];
+    let e = env::build(&EnvSpec::Uniform(sky), 1.0, 0.0).unwrap();
+    let lut = vec![0.0; shader_core::energy::LUT_HEADER];
+    let inputs = RenderInputs { scene: &scene.words, env: &e.words, lut: &lut };
+    let (w, h) = (64u32, 48u32);
+    let run = |seed: u32| {
+        let p = RenderParams { seed, ..params(&camera(), w, h, seed) };
+        let spec = FrameSpec { params: p, previous: p.camera, spp: 1, spp_per_pass: 1, reference_spp: 32, max_roughness: 0.6, fallback: sky, near: 0.01 };
+        export_frame(&Backend::Cpu, &inputs, &spec, None, None, &mut Quiet).unwrap().reference.unwrap()
+    };
+    let (a, b) = (run(1), run(2));
+    let mask: Vec<bool> = a.glossy.iter().zip(&a.onscreen_fraction).map(|(&g, &f)| g && f >= 0.999).collect();
+    assert!(mask.iter().filter(|m| **m).count() > 500);
+    let (na, nb) = (noise_rel(&a, &mask).unwrap(), noise_rel(&b, &mask).unwrap());
+    let (mut d2, mut r2) = (0.0f64, 0.0f64);
+    for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+        for c in 0..3 {
+            d2 += (f64::from(a.onscreen[3 * i + c]) - f64::from(b.onscreen[3 * i + c])).powi(2);
+            r2 += f64::from(a.onscreen[3 * i + c]).powi(2);
+        }
+    }
+    let empirical = (d2 / r2 / 2.0).sqrt();
+    eprintln!("estimated noise {na:.4} / {nb:.4}, empirical {empirical:.4}");
+    assert!(na > 0.005, "the red box's reflection in a rough floor is noisy: {na}");
+    for n in [na, nb] {
+        assert!((n / empirical - 1.0).abs() < 0.25, "estimated {n:.4} vs empirical {empirical:.4}");
+    }
+    assert_eq!(host::ssr::reference::above_noise(0.05, Some(0.1)), 0.0);
+    assert!((host::ssr::reference::above_noise(0.5, Some(0.3)) - 0.4).abs() < 1e-12);
+    assert!(host::ssr::reference::above_noise(0.5, None).is_nan());
+}

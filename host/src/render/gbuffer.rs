@@ -178,6 +178,7 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         glossy: Vec::with_capacity(n),
         mirror_hit: vec![f32::NAN; 2 * n],
         samples: g.samples,
+        noise_var: None,
     };
     for (i, px) in g.values.chunks_exact(GBUFFER_STRIDE).enumerate() {
         let (sx, sy) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
@@ -296,11 +297,11 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
     let first = if half == 0 { spec.reference_spp } else { half };
     let r = render_gbuffer(backend, inputs, &gp, first, spec.spp_per_pass, |d| progress.update(d)).and_then(|(a, ta)| {
         if half == 0 {
-            return Ok((a, ta, None));
+            return Ok((a, ta, (None, None)));
         }
         let second = GBufferParams { render: RenderParams { sample_base: spec.params.sample_base + half, ..gp.render }, ..gp };
         let (b, tb) = render_gbuffer(backend, inputs, &second, spec.reference_spp - half, spec.spp_per_pass, |d| progress.update(half + d))?;
-        let noise = noise_floor(&a, &b);
+        let noise = (noise_floor(&a, &b), pixel_noise_var(&a, &b));
         let mut sum = a;
         for (x, y) in sum.values.chunks_exact_mut(GBUFFER_STRIDE).zip(b.values.chunks_exact(GBUFFER_STRIDE)) {
             for k in GBUFFER_VALUES..GBUFFER_STRIDE {
@@ -311,11 +312,14 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
         Ok((sum, ta.add(tb), noise))
     });
     progress.finish();
-    let (sums, gbuffer_time, noise) = r?;
+    let (sums, gbuffer_time, (noise, noise_var)) = r?;
     let reference = reference.map(|r| ReferenceFile { noise_rel: noise, ..r });
     let gbuffer_wall = t1.elapsed().as_secs_f64();
     let rays: f64 = sums.values.chunks_exact(GBUFFER_STRIDE).map(|p| p[layout::RAYS] as f64).sum();
-    let (gbuffer, reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: spec.fallback }, reference)?;
+    let (gbuffer, mut reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: spec.fallback }, reference)?;
+    if let Some(r) = reference.as_mut() {
+        r.noise_var = noise_var;
+    }
     Ok(Exported { gbuffer, reference, gbuffer_time, gbuffer_wall, rays, previous_seconds })
 }
 
@@ -337,6 +341,26 @@ pub fn noise_floor(a: &GBufferSums, b: &GBufferSums) -> Option<f64> {
         }
     }
     (r2 > 0.0).then(|| (d2 / r2).sqrt())
+}
+
+/// Per pixel, the variance of the on-screen reference (the mean of halves `a` and `b`, equal
+/// sample counts, disjoint samples), estimated as ((a - b) / 2)^2 of the halves' normalized
+/// on-screen reflections, averaged over RGB; 0 where either half has no weight.
+pub fn pixel_noise_var(a: &GBufferSums, b: &GBufferSums) -> Option<Vec<f32>> {
+    let v = a
+        .values
+        .chunks_exact(GBUFFER_STRIDE)
+        .zip(b.values.chunks_exact(GBUFFER_STRIDE))
+        .map(|(x, y)| {
+            let (wa, wb) = (f64::from(x[layout::WEIGHT]), f64::from(y[layout::WEIGHT]));
+            if x[layout::GLOSSY] == 0.0 || !(wa > 0.0) || !(wb > 0.0) {
+                return 0.0;
+            }
+            let d: f64 = (layout::ONSCREEN..layout::ONSCREEN + 3).map(|c| ((f64::from(x[c]) / wa - f64::from(y[c]) / wb) / 2.0).powi(2)).sum();
+            (d / 3.0) as f32
+        })
+        .collect();
+    Some(v)
 }
 
 /// The reference EXR beside G-buffer `path`: `<stem>.reference.exr`.

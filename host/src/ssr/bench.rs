@@ -331,6 +331,9 @@ pub struct Row {
     pub number: usize,
     pub config: String,
     pub errors: Errors,
+    /// On-screen relative RMSE with the reference's own noise taken out (NaN where the
+    /// reference has no noise estimate: the analytic references are exact per ray).
+    pub onscreen_above_noise: f64,
     /// Against the on-screen reference over glossy, non-mirror pixels (where sampling matters).
     pub rough: super::metrics::ErrorStats,
     pub flip: f32,
@@ -399,6 +402,8 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
     // The specular column's inputs, the same for every configuration.
     let spec_consts = super::pipeline::build_params(gb, &s)?;
     let packed = gb.packed();
+    let on_mask: Vec<bool> = reference.glossy.iter().zip(&reference.onscreen_fraction).map(|(&g, &f)| g && f >= 0.999).collect();
+    let noise = super::reference::noise_rel(reference, &on_mask);
     let mut rows = Vec::new();
     for (number, c) in selected_configs(a)? {
         let res = run_config(cpu, src, gb, &s, &c, frame)?;
@@ -469,9 +474,10 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
             None => (None, None),
         };
         eprintln!(
-            "  {name:<8} {number:>2} {:<26} on-screen rel {}  rough rel {}  all rel {}  FLIP {:.4}  flicker {}  after cut {}  CPU {:.1} ms{}",
+            "  {name:<8} {number:>2} {:<26} on-screen rel {} (above noise {})  rough rel {}  all rel {}  FLIP {:.4}  flicker {}  after cut {}  CPU {:.1} ms{}",
             c.label(),
             figure(e.onscreen.rel, 3),
+            figure(super::reference::above_noise(e.onscreen.rel, noise), 3),
             figure(rough.rel, 3),
             figure(e.all.rel, 3),
             flip,
@@ -484,6 +490,7 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
             scene: name.into(),
             number,
             config: c.label(),
+            onscreen_above_noise: super::reference::above_noise(e.onscreen.rel, noise),
             errors: e,
             rough,
             flip,
@@ -580,7 +587,9 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) ->
     let _ = writeln!(
         s,
         "Columns: **on-screen** = RMSE / relative RMSE against the on-screen-only reference on pixels whose reference \
-         rays all stay on screen (the algorithm's own error); **non-mirror rel** = relative RMSE against the on-screen reference over glossy pixels \
+         rays all stay on screen (the algorithm's own error); **above noise** = on-screen rel with the path-traced \
+         reference's own noise taken out, sqrt(rel^2 - noise^2) (glTF scenes; the noise is estimated per pixel from two halves of \
+         the reference's samples; - for the analytic references); **non-mirror rel** = relative RMSE against the on-screen reference over glossy pixels \
          with perceptual roughness >= 0.03 (where ray sampling, reuse and temporal filtering matter); **all glossy** = against the all-geometry reference \
          over every glossy pixel (adds what SSR cannot see); **FLIP** = mean FLIP of the tone-mapped composite \
          against the tone-mapped all-geometry reference (glossy pixels only); **specular rel** = relative RMSE of the \
@@ -602,17 +611,18 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) ->
         let _ = writeln!(s, "Inputs: {provenance}.\n");
         let _ = writeln!(
             s,
-            "| # | configuration | on-screen RMSE | on-screen rel | non-mirror rel | all glossy RMSE | all glossy rel | FLIP | specular rel | flicker | after cut | CPU ms | GPU ms | skipped tiles / pixels | bits |"
+            "| # | configuration | on-screen RMSE | on-screen rel | above noise | non-mirror rel | all glossy RMSE | all glossy rel | FLIP | specular rel | flicker | after cut | CPU ms | GPU ms | skipped tiles / pixels | bits |"
         );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for r in rows.iter().filter(|r| &r.scene == scene) {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
                 r.number,
                 r.config,
                 figure(r.errors.onscreen.rmse, 4),
                 figure(r.errors.onscreen.rel, 3),
+                if r.onscreen_above_noise.is_nan() { "-".to_string() } else { figure(r.onscreen_above_noise, 3) },
                 figure(r.rough.rel, 3),
                 figure(r.errors.all.rmse, 4),
                 figure(r.errors.all.rel, 3),

@@ -556,8 +556,13 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
             let es = error(&spec_rgb, &r.specular_onscreen, &r.glossy);
             let ea = error(&spec_rgb, &r.specular_all, &r.glossy);
             let f = |e: &ErrorStats| format!("RMSE {} rel {}", figure(e.rmse, 4), figure(e.rel, 3));
+            let on_mask: Vec<bool> = r.glossy.iter().zip(&r.onscreen_fraction).map(|(&g, &f)| g && f >= 0.999).collect();
+            let above = match super::reference::noise_rel(r, &on_mask) {
+                Some(n) => format!(" (the reference's own noise {}: above it {})", figure(n, 3), figure(super::reference::above_noise(e.onscreen.rel, Some(n)), 3)),
+                None => String::new(),
+            };
             eprintln!(
-                "  error vs reference: on-screen pixels ({}) {}; all glossy ({}) {} (vs on-screen reference: {})",
+                "  error vs reference: on-screen pixels ({}) {}{above}; all glossy ({}) {} (vs on-screen reference: {})",
                 e.onscreen.pixels,
                 f(&e.onscreen),
                 e.all.pixels,

@@ -39,6 +39,34 @@ pub struct Reference {
     /// on screen; NaN otherwise (2 per pixel).
     pub mirror_hit: Vec<f32>,
     pub samples: u32,
+    /// Per pixel, the estimated variance of `onscreen` (mean over RGB) where the reference is a
+    /// Monte-Carlo estimate that measured it (path-traced references: from two halves of the
+    /// samples); `None` for references without one.
+    pub noise_var: Option<Vec<f32>>,
+}
+
+/// The reference's own relative noise over `mask`: sqrt(mean noise variance) / RMS of the
+/// on-screen reference there, when the reference carries a variance estimate.
+pub fn noise_rel(r: &Reference, mask: &[bool]) -> Option<f64> {
+    let var = r.noise_var.as_ref()?;
+    let (mut v, mut r2, mut n) = (0.0f64, 0.0f64, 0usize);
+    for (i, &m) in mask.iter().enumerate() {
+        if m {
+            v += f64::from(var[i]);
+            r2 += (0..3).map(|c| f64::from(r.onscreen[3 * i + c]).powi(2)).sum::<f64>() / 3.0;
+            n += 1;
+        }
+    }
+    (n > 0 && r2 > 0.0).then(|| (v / r2).sqrt())
+}
+
+/// A relative error with the reference's own noise taken out: sqrt(max(0, rel^2 - noise^2))
+/// (squared errors add for independent noise), NaN when either is unknown.
+pub fn above_noise(rel: f64, noise: Option<f64>) -> f64 {
+    match noise {
+        Some(n) if rel.is_finite() => (rel * rel - n * n).max(0.0).sqrt(),
+        _ => f64::NAN,
+    }
 }
 
 fn lambda(c: f64, alpha: f64) -> f64 {
@@ -206,6 +234,7 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
         glossy: Vec::with_capacity(w * h),
         mirror_hit: Vec::with_capacity(2 * w * h),
         samples: if samples <= 1 { 1 } else { strata * strata },
+        noise_var: None,
     };
     for (a, o, f, g, m, sa, so) in rows {
         r.specular_all.extend_from_slice(&sa);
@@ -226,7 +255,8 @@ pub const REFERENCE_CHANNELS: [&str; 14] = [
 ];
 
 impl Reference {
-    /// Write the reference as an EXR with [`REFERENCE_CHANNELS`] (`glossy` = 1 or 0).
+    /// Write the reference as an EXR with [`REFERENCE_CHANNELS`] (`glossy` = 1 or 0), and
+    /// `noise_var` when it has one.
     pub fn save(&self, path: &std::path::Path) -> anyhow::Result<()> {
         let n = self.width * self.height;
         let ch = |v: &[f32], k: usize| -> Vec<f32> { (0..n).map(|i| v[3 * i + k]).collect() };
@@ -236,7 +266,10 @@ impl Reference {
         }
         chans.push(self.onscreen_fraction.clone());
         chans.push(self.glossy.iter().map(|&g| if g { 1.0 } else { 0.0 }).collect());
-        let refs: Vec<(&str, &[f32])> = REFERENCE_CHANNELS.iter().zip(&chans).map(|(n, c)| (*n, c.as_slice())).collect();
+        let mut refs: Vec<(&str, &[f32])> = REFERENCE_CHANNELS.iter().zip(&chans).map(|(n, c)| (*n, c.as_slice())).collect();
+        if let Some(v) = &self.noise_var {
+            refs.push(("noise_var", v.as_slice()));
+        }
         crate::io::write_exr(path, self.width, self.height, &refs)
     }
 
@@ -275,6 +308,10 @@ impl Reference {
             glossy: glossy.iter().map(|&g| g == 1.0).collect(),
             mirror_hit: vec![f32::NAN; 2 * n],
             samples,
+            noise_var: match img.channel("noise_var") {
+                Ok(_) => Some(get("noise_var")?.to_vec()),
+                Err(_) => None,
+            },
         })
     }
 }
