@@ -5,6 +5,7 @@
 //! * [`params`]: the parameter buffer every pass reads, and the coordinate conventions.
 //! * [`trace`]: G-buffer decoding, reflection rays, Hi-Z / linear / brute-force tracing.
 //! * [`resolve`]: HDRP fades, colour-pyramid sampling, SSR_APPROX and neighbourhood resolves.
+//! * [`hits`]: per-ray hit records the neighbourhood resolves read (computed once per ray).
 //! * [`specular`]: the reflection times the preintegrated FG term from the energy tables.
 //! * [`stochastic`]: Frostbite-style stochastic SSR (tiles, ray list, VNDF rays, reuse, temporal).
 //!
@@ -18,6 +19,7 @@
 //! assert_eq!((idx::LEN, GBUF_STRIDE, OUT_STRIDE), (112, 8, 4));
 //! ```
 
+pub mod hits;
 pub mod mat4;
 pub mod params;
 pub mod resolve;

@@ -8,7 +8,8 @@
 
 use crate::invocation;
 use shader_core::ssr::params::{mip_size, SsrParams};
-use shader_core::ssr::resolve::{self, COLOR_STRIDE, OUT_STRIDE};
+use shader_core::ssr::hits;
+use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular;
 use shader_core::ssr::stochastic;
 use shader_core::ssr::trace::{self, RAY_STRIDE};
@@ -70,8 +71,24 @@ pub fn ssr_hdrp_trace(
     trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, rays, (i as usize) * RAY_STRIDE);
 }
 
-/// HDRP reprojection, `SSR_APPROX` (`args[2]` = 0) or the neighbourhood resolve (`args[2]` =
-/// 1 + shape: 3x3 block or 5-tap cross).
+/// Hit records (`shader_core::ssr::hits`): one invocation per ray slot (pixels x samples per
+/// pixel), for the neighbourhood resolves of both pipelines.
+#[spirv(compute(threads(64)))]
+pub fn ssr_ray_hits(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = SsrParams::load(consts);
+    hits::hit_record_slot(&p, gbuf, rays, i, hits, (i as usize) * HIT_STRIDE);
+}
+
+/// HDRP reprojection, `SSR_APPROX` (`args[2]` = 0; `hits` unread) or the neighbourhood resolve
+/// (`args[2]` = 1 + shape: 3x3 block or 5-tap cross).
 #[spirv(compute(threads(64)))]
 pub fn ssr_hdrp_reproject(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -80,7 +97,8 @@ pub fn ssr_hdrp_reproject(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = SsrParams::load(consts);
@@ -89,7 +107,7 @@ pub fn ssr_hdrp_reproject(
     if args[2] == 0 {
         resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, out, ob);
     } else {
-        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, args[2] - 1, x, y, out, ob);
+        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, args[2] - 1, x, y, out, ob);
     }
 }
 
@@ -151,7 +169,8 @@ pub fn sssr_trace(
     stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, rays, ob);
 }
 
-/// Stochastic SSR, BRDF-weighted ratio-estimator resolve (one invocation per pixel).
+/// Stochastic SSR, BRDF-weighted ratio-estimator resolve (one invocation per pixel; `hits` from
+/// [`ssr_ray_hits`]).
 #[spirv(compute(threads(64)))]
 pub fn sssr_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -160,11 +179,12 @@ pub fn sssr_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = SsrParams::load(consts);
-    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
+    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
 }
 
 /// Stochastic SSR, temporal accumulation (one invocation per pixel; history stride 5): hit-based

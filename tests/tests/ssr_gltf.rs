@@ -16,6 +16,7 @@ use host::ssr::{GBuffer, SsrSettings};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
 use shader_core::ssr::params::{idx, REPROJECT_HIT, REPROJECT_SURFACE, TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
+use shader_core::ssr::resolve::HIT_STRIDE;
 use shader_core::ssr::stochastic::{HISTORY_STRIDE, LIST_STRIDE, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
 
@@ -81,6 +82,8 @@ fn ssr_passes_match_gpu_bit_for_bit_on_gltf_scenes() {
             set_u32(&mut consts, idx::LINEAR_STEPS, steps.max(1));
             let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
             assert_bits_equal(&format!("{name} HDRP trace mode {mode}"), RAY_STRIDE, &rc, &q.hdrp_trace(&consts, &gbuf, &dp).unwrap());
+            let hc = c.ray_hits(&consts, &gbuf, &rc).unwrap();
+            assert_bits_equal(&format!("{name} HDRP hit records mode {mode}"), HIT_STRIDE, &hc, &q.ray_hits(&consts, &gbuf, &rc).unwrap());
             hits += rc.chunks_exact(RAY_STRIDE).filter(|r| r[3].to_bits() & shader_core::ssr::trace::info::HIT != 0).count();
             for m in [HdrpResolve::Approx, HdrpResolve::Block3x3, HdrpResolve::Cross5] {
                 let oc = c.hdrp_reproject(&consts, &gbuf, &cp, &rc, m).unwrap();
@@ -104,6 +107,8 @@ fn ssr_passes_match_gpu_bit_for_bit_on_gltf_scenes() {
             assert!(count > 0, "{tag}: no rays");
             let rays = c.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap();
             assert_bits_equal(&format!("{tag} trace"), RAY_STRIDE, &rays, &q.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap());
+            let hits = c.ray_hits(&consts, &gbuf, &rays).unwrap();
+            assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hits, &q.ray_hits(&consts, &gbuf, &rays).unwrap());
             let res = c.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap();
             assert_bits_equal(&format!("{tag} resolve"), 4, &res, &q.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap());
             let dist = c.sssr_hit_distance(&consts, &gbuf, &rays).unwrap();

@@ -8,6 +8,7 @@ use host::ssr::pipeline::{build_params, set_u32, Runner};
 use host::ssr::{render_reference, run_hdrp, scene, GBuffer, HdrpResolve, SsrSettings, TraceMode};
 use host::Backend;
 use shader_core::ssr::params::{idx, FLAG_STOCHASTIC, TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
+use shader_core::ssr::resolve::HIT_STRIDE;
 use shader_core::ssr::trace::{info, RAY_STRIDE};
 
 const W: usize = 128;
@@ -46,6 +47,8 @@ fn hdrp_passes_match_gpu_bit_for_bit() {
             let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
             let rg = q.hdrp_trace(&consts, &gbuf, &dp).unwrap();
             assert_bits_equal(&format!("{name} trace mode {mode} steps {steps} stochastic {stochastic}"), RAY_STRIDE, &rc, &rg);
+            let hc = c.ray_hits(&consts, &gbuf, &rc).unwrap();
+            assert_bits_equal(&format!("{name} hit records mode {mode} stochastic {stochastic}"), HIT_STRIDE, &hc, &q.ray_hits(&consts, &gbuf, &rc).unwrap());
             for m in [HdrpResolve::Approx, HdrpResolve::Block3x3, HdrpResolve::Cross5] {
                 let oc = c.hdrp_reproject(&consts, &gbuf, &cp, &rc, m).unwrap();
                 let og = q.hdrp_reproject(&consts, &gbuf, &cp, &rc, m).unwrap();

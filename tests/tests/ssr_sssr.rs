@@ -11,6 +11,7 @@ use host::ssr::sssr::{expected_list, run_sssr, sssr_params, Reprojection, ScanKe
 use host::ssr::{render_reference, scene, SsrSettings};
 use host::Backend;
 use shader_core::ssr::params::{idx, SsrParams, REPROJECT_HIT, REPROJECT_SURFACE};
+use shader_core::ssr::resolve::HIT_STRIDE;
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::{load_surface, RAY_STRIDE};
 use shader_core::vector::Vec3;
@@ -65,6 +66,8 @@ fn sssr_passes_match_gpu_bit_for_bit() {
         }
         let rays = c.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap();
         assert_bits_equal(&format!("{tag} trace"), RAY_STRIDE, &rays, &q.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap());
+        let hits = c.ray_hits(&consts, &gbuf, &rays).unwrap();
+        assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hits, &q.ray_hits(&consts, &gbuf, &rays).unwrap());
         let res = c.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap();
         assert_bits_equal(&format!("{tag} resolve"), 4, &res, &q.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap());
         // Temporal: a history that is the resolve itself shifted by a frame count, both reprojections.
@@ -283,6 +286,6 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
         assert_bits_equal(&format!("{name} chain rays"), RAY_STRIDE, &c.rays, &q.rays);
         assert_bits_equal(&format!("{name} chain resolve"), 4, &c.reflection, &q.reflection);
         let names: Vec<&str> = qr.times.iter().map(|t| t.name.as_str()).collect();
-        assert_eq!(names, ["depth pyramid", "color pyramid", "classify", "compact", "trace", "resolve"], "{name}: pass times");
+        assert_eq!(names, ["depth pyramid", "color pyramid", "classify", "compact", "trace", "hits", "resolve"], "{name}: pass times");
     }
 }

@@ -342,8 +342,12 @@ pub struct Row {
     pub specular: super::metrics::ErrorStats,
     /// Temporal stability on a static camera ([`flicker`]); `None` for a moving camera.
     pub flicker: Option<f64>,
-    /// Temporal rows: on-screen relative RMSE of the first frame after a camera cut.
+    /// Temporal rows: on-screen relative RMSE of the first frame after a camera cut
+    /// ([`super::GBuffer::after_cut`]), with the history of the other view.
     pub after_cut_rel: Option<f64>,
+    /// The same frame without history (one frame of the configuration): what the cut costs with
+    /// no ghosting at all.
+    pub after_cut_fresh_rel: Option<f64>,
     pub cpu_ms: f64,
     pub cpu_passes: String,
     pub gpu_ms: Option<f64>,
@@ -434,10 +438,16 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
         };
         // Ghosting: the first frame after a cut from another view, its history built over
         // `temporal_frames - 1` frames of that view.
+        // The cut frame is this frame's G-buffer with the previous camera, motion vectors and
+        // previous colour of the other view (`GBuffer::after_cut`); the same frame without any
+        // history is the comparison point (what the cut costs with no ghosting at all).
         let after_cut = if let (true, Config::Sssr(t, _)) = (temporal, &c) {
             let before = FrameSequence { first: 0, frames: vec![input.cut_from.clone(); t.temporal_frames as usize - 1] };
-            let r = run_config_frames(cpu, &before, gb, &SsrSettings { frame: t.temporal_frames - 1, ..s.clone() }, &c, t.temporal_frames - 1, None)?;
-            Some(errors(&r, reference, sky).onscreen.rel)
+            let cut = gb.after_cut(&input.cut_from)?;
+            let s_cut = SsrSettings { frame: t.temporal_frames - 1, ..s.clone() };
+            let r = run_config_frames(cpu, &before, &cut, &s_cut, &c, t.temporal_frames - 1, None)?;
+            let fresh = run_config_frames(cpu, &before, &cut, &s_cut, &c, t.temporal_frames - 1, Some(1))?;
+            Some((errors(&r, reference, sky).onscreen.rel, errors(&fresh, reference, sky).onscreen.rel))
         } else {
             None
         };
@@ -482,7 +492,7 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
             figure(e.all.rel, 3),
             flip,
             stability.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
-            after_cut.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
+            after_cut.map(|(v, f)| format!("{} (no history {})", figure(v, 3), figure(f, 3))).unwrap_or_else(|| "-".into()),
             cpu_ms,
             gpu_ms.map(|t| format!("  GPU {t:.1} ms")).unwrap_or_default()
         );
@@ -496,7 +506,8 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
             flip,
             specular,
             flicker: stability,
-            after_cut_rel: after_cut,
+            after_cut_rel: after_cut.map(|v| v.0),
+            after_cut_fresh_rel: after_cut.map(|v| v.1),
             cpu_ms,
             cpu_passes,
             gpu_ms,
@@ -600,8 +611,9 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) ->
          identical (temporal rows: over two frames); **flicker** = temporal stability on a static camera, \
          RMS of the change of the composite between the last two frames (two independent frames for \
          single-frame configurations) over the RMS of the reference, glossy pixels (- for a moving camera); \
-         **after cut** = on-screen relative RMSE of the first frame after a camera cut, its history \
-         accumulated over 15 frames of another view (ghosting: compare with on-screen rel).\n"
+         **after cut** = on-screen relative RMSE of the first frame after a camera cut from another view \
+         (previous camera, motion vectors and previous colour of that view, its history accumulated over 15 \
+         frames of it), and in parentheses the same frame without history (ghosting = the difference).\n"
     );
     for SceneInfo { name: scene, glossy, onscreen: on, provenance } in refs {
         if *glossy == 0 {
@@ -629,7 +641,10 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) ->
                 figure(f64::from(r.flip), 4),
                 figure(r.specular.rel, 3),
                 r.flicker.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
-                r.after_cut_rel.map(|v| figure(v, 3)).unwrap_or_else(|| "-".into()),
+                match (r.after_cut_rel, r.after_cut_fresh_rel) {
+                    (Some(v), Some(f)) => format!("{} ({})", figure(v, 3), figure(f, 3)),
+                    _ => "-".into(),
+                },
                 r.cpu_ms,
                 r.gpu_ms.map(|t| format!("{t:.1}")).unwrap_or_else(|| "-".into()),
                 match (r.tiles_skipped, r.pixels_skipped) {

@@ -97,6 +97,28 @@ pub fn camera_path(exr: &Path) -> PathBuf {
 }
 
 impl GBuffer {
+    /// This frame as the first frame after a camera cut from `before` (the last frame of another
+    /// view): what a renderer hands SSR then. The previous camera is `before`'s camera, the
+    /// motion vectors reproject each pixel's point into it (the sky: its direction), and the
+    /// previous frame's colour is `before`'s image; depth, normals and materials are this frame's.
+    pub fn after_cut(&self, before: &GBuffer) -> Result<GBuffer> {
+        if (before.width, before.height) != (self.width, self.height) {
+            bail!("camera cut from a {}x{} frame to a {}x{} one", before.width, before.height, self.width, self.height);
+        }
+        let (w, h) = (self.width, self.height);
+        let mut g = self.clone();
+        g.previous_camera = before.camera.clone();
+        g.color = before.color.clone();
+        g.motion.clear();
+        for (i, &depth) in self.depth.iter().enumerate() {
+            let (sx, sy) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
+            let point = depth.is_finite().then(|| self.camera.unproject(w, h, sx, sy, depth as f64));
+            g.motion.extend(self.camera.motion(&before.camera, w, h, sx, sy, point));
+        }
+        g.validate()?;
+        Ok(g)
+    }
+
     /// Check sizes, values and cameras; the error names the first problem (channel, pixel).
     pub fn validate(&self) -> Result<()> {
         let n = self.width * self.height;

@@ -9,7 +9,8 @@ use crate::Backend;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{self, idx, mip_size, SsrParams};
-use shader_core::ssr::resolve::{self, COLOR_STRIDE, OUT_STRIDE};
+use shader_core::ssr::hits;
+use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular::{self, SPECULAR_STRIDE};
 use shader_core::ssr::trace::{self, RAY_STRIDE};
 use std::time::Instant;
@@ -386,11 +387,32 @@ impl<'a> Runner<'a> {
         }
     }
 
-    /// HDRP reprojection / resolve pass: (rgb premultiplied, opacity) per pixel.
+    /// Hit records of every ray slot (`HIT_STRIDE` floats per slot, pixels x samples per pixel,
+    /// in the ray records' order; `shader_core::ssr::hits`): what the neighbourhood resolves
+    /// need of each hitting ray, computed once per ray.
+    pub fn ray_hits(&mut self, consts: &[f32], gbuf: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
+        let p = SsrParams::load(consts);
+        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
+        anyhow::ensure!(rays.len() == slots * RAY_STRIDE, "ray records have {} values, expected {}", rays.len(), slots * RAY_STRIDE);
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("hits", || {
+                let mut out = vec![0.0f32; slots * HIT_STRIDE];
+                out.par_chunks_mut(HIT_STRIDE).enumerate().for_each(|(i, o)| hits::hit_record_slot(&p, gbuf, rays, i as u32, o, 0));
+                out
+            })),
+            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_ray_hits", slots as u32, &[], &[consts, gbuf, rays], slots * HIT_STRIDE, None),
+        }
+    }
+
+    /// HDRP reprojection / resolve pass: (rgb premultiplied, opacity) per pixel. The
+    /// neighbourhood resolves first run [`Runner::ray_hits`] (its own pass, "hits").
     pub fn hdrp_reproject(&mut self, consts: &[f32], gbuf: &[f32], color_pyr: &[f32], rays: &[f32], mode: HdrpResolve) -> Result<Vec<f32>> {
         let p = SsrParams::load(consts);
         let n = (p.width * p.height) as usize;
         let arg = mode.arg();
+        // SSR_APPROX reads its pixel's own ray only; its kernel leaves the hit records unread.
+        let hits = if arg == 0 { vec![0.0f32; HIT_STRIDE] } else { self.ray_hits(consts, gbuf, rays)? };
+        let hits = &hits[..];
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
                 let mut out = vec![0.0f32; n * OUT_STRIDE];
@@ -400,13 +422,13 @@ impl<'a> Runner<'a> {
                     if arg == 0 {
                         resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, o, 0);
                     } else {
-                        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, arg - 1, x, y, o, 0);
+                        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, arg - 1, x, y, o, 0);
                     }
                 });
                 out
             })),
             Backend::Gpu(_) => {
-                self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[arg], &[consts, gbuf, color_pyr, rays], n * OUT_STRIDE, None)
+                self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[arg], &[consts, gbuf, color_pyr, rays, hits], n * OUT_STRIDE, None)
             }
         }
     }

@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
 use shader_core::ssr::params::mip_size;
-use shader_core::ssr::resolve::{COLOR_STRIDE, OUT_STRIDE};
+use shader_core::ssr::resolve::{COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
 
@@ -222,6 +222,7 @@ impl Runner<'_> {
         let tile_args = args_for(n, &[]);
         let scan_args = scan_pass_args(n);
         let pixel_args = args_for(pixels, &[]);
+        let slot_args = args_for(slots, &[]);
         let total = pyramid_texels(p.width, p.height);
         let depth_init = depth_pyramid_init(&p, depth)?;
         let mut color_init = vec![0.0f32; total * COLOR_STRIDE];
@@ -241,9 +242,12 @@ impl Runner<'_> {
             chain_out(slots.max(1) * LIST_STRIDE * 4, None),
             chain_out(slots * RAY_STRIDE * 4, Some(bytemuck::cast_slice(&zeros))),
             chain_out(pixels * OUT_STRIDE * 4, None),
+            ChainBuffer::Input(bytemuck::cast_slice(&slot_args)),
+            chain_out(slots * HIT_STRIDE * 4, None),
         ];
         let (consts_b, gbuf_b, tile_b, scan_b, pixel_b) = (0, 1, 2, 3, 4);
         let (depth_b, color_b, tiles_b, offsets_b, dispatch_b, list_b, rays_b, refl_b) = (5, 6, 7, 8, 9, 10, 11, 12);
+        let (slot_b, hits_b) = (13, 14);
         let first_level_arg = bufs.len();
         bufs.extend(level_args.iter().map(|a| ChainBuffer::Input(bytemuck::cast_slice(a))));
         let scan_entry = ScanKernel::Auto.entry(g)?;
@@ -270,7 +274,14 @@ impl Runner<'_> {
             dispatch: ChainDispatch::Indirect { buffer: dispatch_b, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 },
         });
         names.push("trace");
-        passes.push(ChainPass { entry: "ssr::sssr_resolve", reads: vec![pixel_b, consts_b, gbuf_b, color_b, rays_b], writes: vec![refl_b], dispatch: direct(pixels) });
+        passes.push(ChainPass { entry: "ssr::ssr_ray_hits", reads: vec![slot_b, consts_b, gbuf_b, rays_b], writes: vec![hits_b], dispatch: direct(slots) });
+        names.push("hits");
+        passes.push(ChainPass {
+            entry: "ssr::sssr_resolve",
+            reads: vec![pixel_b, consts_b, gbuf_b, color_b, rays_b, hits_b],
+            writes: vec![refl_b],
+            dispatch: direct(pixels),
+        });
         names.push("resolve");
         let (mut res, times) = g.dispatch_chain(&bufs, &passes).context("GPU stochastic SSR frame")?;
         for (name, t) in names.iter().zip(times) {
@@ -362,21 +373,23 @@ impl Runner<'_> {
         }
     }
 
-    /// The ratio-estimator resolve.
+    /// The ratio-estimator resolve, after [`Runner::ray_hits`] (its own pass, "hits").
     pub fn sssr_resolve(&mut self, consts: &[f32], gbuf: &[f32], color_pyr: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
         let p = SsrParams::load(consts);
         let n = (p.width * p.height) as usize;
+        let hits = self.ray_hits(consts, gbuf, rays)?;
+        let hits = &hits[..];
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
                 let mut out = vec![0.0f32; n * OUT_STRIDE];
                 out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
                     let i = i as u32;
-                    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, o, 0);
+                    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, i % p.width, i / p.width, o, 0);
                 });
                 out
             })),
             Backend::Gpu(_) => {
-                self.gpu_pass("resolve", "ssr::sssr_resolve", n as u32, &[], &[consts, gbuf, color_pyr, rays], n * OUT_STRIDE, None)
+                self.gpu_pass("resolve", "ssr::sssr_resolve", n as u32, &[], &[consts, gbuf, color_pyr, rays, hits], n * OUT_STRIDE, None)
             }
         }
     }

@@ -71,11 +71,17 @@ pub fn lambda_cos(c: f32, alpha: f32) -> f32 {
 /// below the surface (n.l <= 0); `alpha` is the GGX roughness (perceptual squared).
 #[inline]
 pub fn ssr_sample_weight(n: Vec3, v: Vec3, l: Vec3, alpha: f32) -> f32 {
+    ssr_sample_weight_lv(n, l, alpha, lambda_cos(n.dot(v), alpha) + 1.0)
+}
+
+/// [`ssr_sample_weight`] with the receiver's `1 + Lambda(V)` computed once by the caller (the
+/// same value, so the same bits).
+#[inline]
+pub fn ssr_sample_weight_lv(n: Vec3, l: Vec3, alpha: f32, lambda_v_plus_one: f32) -> f32 {
     let nl = n.dot(l);
     if !(nl > 0.0) {
         return 0.0;
     }
-    let lambda_v_plus_one = lambda_cos(n.dot(v), alpha) + 1.0;
     let lambda_l = lambda_cos(nl, alpha);
     ieee::div(lambda_v_plus_one, lambda_v_plus_one + lambda_l)
 }
@@ -194,6 +200,45 @@ pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
     }
 }
 
+/// Floats per hit record (written by [`super::hits`], one per ray slot, in the ray records'
+/// order): hit position (view space) x y z, the generating pixel's density at the direction to
+/// it, previous-frame u v of the hit, its edge-of-screen fade, and the filtered-importance-sampling
+/// cone's half-angle tangent. Only slots whose ray hit are written; the rest stay zero.
+pub const HIT_STRIDE: usize = 8;
+
+/// A decoded hit record: what every resolve needs of a hitting ray that does not depend on the
+/// pixel resolving it, computed once per ray ([`super::hits::hit_record_slot`]) instead of once
+/// per (pixel, neighbour ray) pair.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct HitRecord {
+    /// View-space position of the hit ([`hit_position`]).
+    pub pos: Vec3,
+    /// The generating pixel's sampling density at the direction to `pos`
+    /// (`stochastic::ray_pdf_at_hit`).
+    pub pdf: f32,
+    /// Previous-frame UV of the hit ([`reproject_hit`]).
+    pub u: f32,
+    pub v: f32,
+    /// [`edge_of_screen_fade`] at (u, v).
+    pub fade: f32,
+    /// Tangent of the half-angle of the ray's filtered-importance-sampling cone
+    /// (`stochastic::fis_tan_half`).
+    pub tan_half: f32,
+}
+
+/// Decode the hit record at `hits[b..]`.
+#[inline]
+pub fn load_hit(hits: &[f32], b: usize) -> HitRecord {
+    HitRecord {
+        pos: Vec3::new(hits[b], hits[b + 1], hits[b + 2]),
+        pdf: hits[b + 3],
+        u: hits[b + 4],
+        v: hits[b + 5],
+        fade: hits[b + 6],
+        tan_half: hits[b + 7],
+    }
+}
+
 /// The hit pixel's previous-frame UV (its UV minus the motion vector stored at the hit pixel).
 #[inline]
 pub fn reproject_hit(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> (f32, f32) {
@@ -269,36 +314,37 @@ pub const NEIGHBORHOOD_3X3: u32 = 0;
 /// Neighbourhood shape: the pixel and its four edge neighbours.
 pub const NEIGHBORHOOD_CROSS5: u32 = 1;
 
-/// Accumulate one neighbour's ray into the ratio sums for surface `s`.
+/// Accumulate one neighbour's ray into the ratio sums for surface `s` (`lambda_v_plus_one` =
+/// 1 + Lambda(V) of `s`); a hitting ray's position, reprojection and fade come from its hit record.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn accumulate_neighbor(
     p: &SsrParams,
-    gbuf: &[f32],
     color: &[f32],
     rays: &[f32],
+    hits: &[f32],
     s: &Surface,
     alpha: f32,
-    qx: u32,
-    qy: u32,
+    lambda_v_plus_one: f32,
+    q: usize,
     acc: &mut Vec3,
     acc_a: &mut f32,
     acc_w: &mut f32,
 ) {
-    let r = load_ray(rays, ((qy * p.width + qx) as usize) * RAY_STRIDE);
+    let r = load_ray(rays, q * RAY_STRIDE);
     if !r.valid {
         return;
     }
-    let l = if r.hit { (hit_position(p, gbuf, r.hx, r.hy) - s.pos).normalize_or_zero() } else { r.dir };
-    let w = ssr_sample_weight(s.n, s.v, l, alpha);
+    let h = load_hit(hits, q * HIT_STRIDE);
+    let l = if r.hit { (h.pos - s.pos).normalize_or_zero() } else { r.dir };
+    let w = ssr_sample_weight_lv(s.n, l, alpha, lambda_v_plus_one);
     if !(w > 0.0) {
         return;
     }
     if r.hit {
-        let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
-        let a = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
-        let c = sample_color(p, color, u, v, 0.0);
-        *acc = *acc + c * (a * w);
-        *acc_a += a * w;
+        let c = sample_color(p, color, h.u, h.v, 0.0);
+        *acc = *acc + c * (h.fade * w);
+        *acc_a += h.fade * w;
     }
     *acc_w += w;
 }
@@ -307,13 +353,15 @@ fn accumulate_neighbor(
 /// the 5-tap cross: centre and its 4 edge neighbours) weighted by `GetSSRSampleWeight(V, L, alpha)`
 /// with L from this pixel to each neighbour's hit (a missed ray keeps its own direction and
 /// contributes weight with zero colour and opacity); colour at mip 0 times the hit's edge fade;
-/// the weighted average times this pixel's roughness fade.
+/// the weighted average times this pixel's roughness fade. `hits` holds the rays' hit records
+/// ([`HIT_STRIDE`], from [`super::hits`]).
 #[allow(clippy::too_many_arguments)]
 pub fn hdrp_resolve_neighborhood(
     p: &SsrParams,
     gbuf: &[f32],
     color: &[f32],
     rays: &[f32],
+    hits: &[f32],
     shape: u32,
     x: u32,
     y: u32,
@@ -326,6 +374,7 @@ pub fn hdrp_resolve_neighborhood(
         return;
     }
     let alpha = s.perceptual_roughness * s.perceptual_roughness;
+    let lambda_v_plus_one = lambda_cos(s.n.dot(s.v), alpha) + 1.0;
     let mut acc = Vec3::ZERO;
     let mut acc_a = 0.0;
     let mut acc_w = 0.0;
@@ -337,7 +386,8 @@ pub fn hdrp_resolve_neighborhood(
             let qx = x as i32 + dx;
             let qy = y as i32 + dy;
             if in_shape && qx >= 0 && qy >= 0 && (qx as u32) < p.width && (qy as u32) < p.height {
-                accumulate_neighbor(p, gbuf, color, rays, &s, alpha, qx as u32, qy as u32, &mut acc, &mut acc_a, &mut acc_w);
+                let q = (qy as u32 * p.width + qx as u32) as usize;
+                accumulate_neighbor(p, color, rays, hits, &s, alpha, lambda_v_plus_one, q, &mut acc, &mut acc_a, &mut acc_w);
             }
             dx += 1;
         }

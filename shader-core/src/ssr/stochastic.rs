@@ -24,8 +24,8 @@
 use crate::ieee;
 use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::resolve::{
-    edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit, sample_color,
-    store as resolve_store, store_resolved, OUT_STRIDE,
+    hit_position, lambda_cos, load_hit, load_ray, log2_approx, perceptual_roughness_fade, sample_color, store as resolve_store,
+    store_resolved, HIT_STRIDE, OUT_STRIDE,
 };
 use super::trace::{clampf, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_STRIDE};
 use crate::buffer::{load, store};
@@ -342,6 +342,25 @@ pub fn trace_list_entry(p: &SsrParams, gbuf: &[f32], pyr: &[f32], list: &[f32], 
     trace_and_store(p, gbuf, pyr, &s, x, y, l, pdf, mode, steps, out, ob);
 }
 
+/// Expected rays in a non-mirror pixel's resolve window (its (2r+1)^2 pixels times their rays),
+/// the N of the filtered-importance-sampling cone; the same for every pixel of a frame.
+#[inline]
+pub fn fis_rays_in_window(p: &SsrParams) -> f32 {
+    let radius = if p.flags & FLAG_REUSE == 0 { 0 } else { p.resolve_radius };
+    let window = (2 * radius + 1) * (2 * radius + 1);
+    maxf(1.0, window as f32 * p.samples_per_pixel as f32 * p.rays_per_quad as f32 * 0.25)
+}
+
+/// Filtered importance sampling (Stachowiak 2015, after Krivanek & Colbert 2008): a ray drawn
+/// with density `pdf` stands for a cone of solid angle 1 / (pdf N), N = [`fis_rays_in_window`];
+/// its half-angle tangent ~ sqrt(omega / pi). Written as (1/pi) / (pdf N): the form
+/// (1 / (pdf N)) * (1/pi) rounded differently on lavapipe (1 ULP in 0.2% of pixels; see
+/// docs/ssr.md).
+#[inline]
+pub fn fis_tan_half(pdf: f32, rays_in_window: f32) -> f32 {
+    ieee::sqrt(ieee::div(core::f32::consts::FRAC_1_PI, pdf * rays_in_window))
+}
+
 #[inline]
 /// The BRDF-weighted ratio-estimator resolve of pixel (x, y) (Stachowiak 2015, "ray reuse"):
 /// over the rays of the (2r+1)^2 neighbourhood (or only its own with reuse off),
@@ -350,8 +369,10 @@ pub fn trace_list_entry(p: &SsrParams, gbuf: &[f32], pyr: &[f32], list: &[f32], 
 /// contributes weight with zero radiance and opacity). Radiance comes from the previous colour
 /// pyramid at the reprojected hit, at mip 0 or, with filtered importance sampling, at the mip of
 /// the ray's cone footprint. Mirror pixels use their own ray only. Premultiplied by the
-/// roughness fade.
-pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x: u32, y: u32, out: &mut [f32], ob: usize) {
+/// roughness fade. What depends on the ray alone (hit position, pdf_k at it, reprojection, edge
+/// fade, cone) comes from its hit record in `hits` ([`super::hits`]).
+#[allow(clippy::too_many_arguments)]
+pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], hits: &[f32], x: u32, y: u32, out: &mut [f32], ob: usize) {
     let s = load_surface(p, gbuf, x, y);
     if !eligible(p, &s) {
         resolve_store(out, ob, Vec3::ZERO, 0.0);
@@ -361,10 +382,9 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x
     let mirror = s.perceptual_roughness < MIRROR_ROUGHNESS;
     let alpha = s.perceptual_roughness * s.perceptual_roughness;
     let nv = s.n.dot(s.v);
+    let lambda_v = lambda_cos(nv, alpha);
     let radius: i32 = if mirror || p.flags & FLAG_REUSE == 0 { 0 } else { p.resolve_radius as i32 };
-    let window = (2 * radius + 1) * (2 * radius + 1);
-    // Expected rays in the window, for the filtered-importance-sampling cone.
-    let rays_in_window = maxf(1.0, window as f32 * spp as f32 * p.rays_per_quad as f32 * 0.25);
+    let fis = p.flags & FLAG_FIS != 0 && !mirror;
     let mut acc = Vec3::ZERO;
     let mut acc_a = 0.0;
     let mut acc_w = 0.0;
@@ -376,42 +396,32 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x
             let qy = y as i32 + dy;
             if qx >= 0 && qy >= 0 && (qx as u32) < p.width && (qy as u32) < p.height {
                 let q = qy as u32 * p.width + qx as u32;
-                let sq = load_surface(p, gbuf, qx as u32, qy as u32);
                 let mut k = 0;
                 while k < spp {
-                    let r = load_ray(rays, ((q * spp + k) as usize) * RAY_STRIDE);
+                    let slot = (q * spp + k) as usize;
+                    let r = load_ray(rays, slot * RAY_STRIDE);
                     k += 1;
                     if !r.valid {
                         continue;
                     }
-                    let (l, pdf) = if r.hit {
-                        let hp = hit_position(p, gbuf, r.hx, r.hy);
-                        ((hp - s.pos).normalize_or_zero(), ray_pdf_at_hit(p, &sq, hp, r.pdf))
-                    } else {
-                        (r.dir, r.pdf)
-                    };
-                    let w = ray_weight(&s, alpha, nv, mirror, l, pdf);
+                    let h = load_hit(hits, slot * HIT_STRIDE);
+                    let (l, pdf) = if r.hit { ((h.pos - s.pos).normalize_or_zero(), h.pdf) } else { (r.dir, r.pdf) };
+                    let w = ray_weight(&s, alpha, nv, lambda_v, mirror, l, pdf);
                     if !(w > 0.0) {
                         continue;
                     }
                     if r.hit {
-                        let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
-                        let a = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
                         let mut mip = 0.0;
-                        if p.flags & FLAG_FIS != 0 && !mirror {
-                            // Cone of solid angle 1 / (pdf N): half-angle tangent ~ sqrt(omega / pi);
-                            // footprint diameter in pixels at the hit's screen distance. Written as
-                            // (1/pi) / (pdf N): the form (1 / (pdf N)) * (1/pi) rounded differently
-                            // on lavapipe (1 ULP in 0.2% of pixels; see docs/ssr.md).
-                            let tan_half = ieee::sqrt(ieee::div(core::f32::consts::FRAC_1_PI, r.pdf * rays_in_window));
+                        if fis {
+                            // Footprint diameter in pixels at the hit's screen distance.
                             let ddx = r.hx - s.origin.x;
                             let ddy = r.hy - s.origin.y;
                             let dist_px = ieee::sqrt(ddx * ddx + ddy * ddy);
-                            mip = maxf(0.0, log2_approx(2.0 * dist_px * tan_half));
+                            mip = maxf(0.0, log2_approx(2.0 * dist_px * h.tan_half));
                         }
-                        let c = sample_color(p, color, u, v, mip);
-                        acc = acc + c * (a * w);
-                        acc_a += a * w;
+                        let c = sample_color(p, color, h.u, h.v, mip);
+                        acc = acc + c * (h.fade * w);
+                        acc_a += h.fade * w;
                     }
                     acc_w += w;
                 }
@@ -444,9 +454,11 @@ pub fn ray_pdf_at_hit(p: &SsrParams, sq: &Surface, hit: Vec3, stored: f32) -> f3
 
 /// The BRDF weight of one ray in the resolve of surface `s` (Stachowiak 2015 ratio estimator):
 /// f(v, l) cos / pdf = D(h) G2(v, l) / (4 n.v) / pdf with F = 1, 1 for mirror pixels; 0 when the
-/// ray cannot contribute (l below the surface, no pdf, non-finite weight).
+/// ray cannot contribute (l below the surface, no pdf, non-finite weight). `nv` = n.v and
+/// `lambda_v` = Lambda(n.v) of `s`, computed once per pixel by the caller.
 #[inline]
-pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, mirror: bool, l: Vec3, pdf: f32) -> f32 {
+#[allow(clippy::too_many_arguments)]
+pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, lambda_v: f32, mirror: bool, l: Vec3, pdf: f32) -> f32 {
     let nl = s.n.dot(l);
     if !(nl > 0.0) {
         return 0.0;
@@ -458,7 +470,7 @@ pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, mirror: bool, l: Vec3, pdf: 
         return 0.0;
     }
     let h = (s.v + l).normalize_or_zero();
-    let g2 = crate::masking::g2_height_correlated_from_lambda(lambda_cos(nv, alpha), lambda_cos(nl, alpha));
+    let g2 = crate::masking::g2_height_correlated_from_lambda(lambda_v, lambda_cos(nl, alpha));
     let w = ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf);
     if w > 0.0 && w < f32::INFINITY {
         w
@@ -487,7 +499,7 @@ pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Su
             let d = hp - s.pos;
             let len = ieee::sqrt(d.dot(d));
             let l = if len > 0.0 { d / len } else { Vec3::ZERO };
-            let w = ray_weight(s, alpha, nv, mirror, l, ray_pdf_at_hit(p, s, hp, r.pdf));
+            let w = ray_weight(s, alpha, nv, lambda_cos(nv, alpha), mirror, l, ray_pdf_at_hit(p, s, hp, r.pdf));
             acc_d += w * len;
             acc_w += w;
         }

@@ -1,0 +1,41 @@
+//! Per-ray hit records for the neighbourhood resolves (Stachowiak 2015 "ray reuse"; HDRP's
+//! non-approximate reprojection): a ray's hit position, the density its pixel drew it with at
+//! the direction to that hit, the hit's previous-frame UV and edge fade and its
+//! filtered-importance-sampling cone depend on the ray alone, so one pass computes them once per
+//! ray ([`super::resolve::HIT_STRIDE`] layout) and the resolves, which visit every ray from up to
+//! nine pixels, read them.
+//!
+//! The values are the very functions the resolves called per (pixel, ray) pair before, on the same
+//! inputs, so the resolves' outputs are unchanged to the bit.
+
+use super::params::SsrParams;
+use super::resolve::{edge_of_screen_fade, hit_position, load_ray, reproject_hit, HIT_STRIDE};
+use super::stochastic::{fis_rays_in_window, fis_tan_half, ray_pdf_at_hit};
+use super::trace::{load_surface, RAY_STRIDE};
+
+/// Write the hit record of ray slot `slot` (pixel `slot / samples_per_pixel`, in the ray records'
+/// order) at `out[ob..ob + HIT_STRIDE]`; zeros when the slot holds no hitting ray.
+#[inline]
+pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], rays: &[f32], slot: u32, out: &mut [f32], ob: usize) {
+    let r = load_ray(rays, (slot as usize) * RAY_STRIDE);
+    if !(r.valid && r.hit) {
+        let mut k = 0;
+        while k < HIT_STRIDE {
+            out[ob + k] = 0.0;
+            k += 1;
+        }
+        return;
+    }
+    let q = slot / p.samples_per_pixel;
+    let sq = load_surface(p, gbuf, q % p.width, q / p.width);
+    let hp = hit_position(p, gbuf, r.hx, r.hy);
+    let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
+    out[ob] = hp.x;
+    out[ob + 1] = hp.y;
+    out[ob + 2] = hp.z;
+    out[ob + 3] = ray_pdf_at_hit(p, &sq, hp, r.pdf);
+    out[ob + 4] = u;
+    out[ob + 5] = v;
+    out[ob + 6] = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
+    out[ob + 7] = fis_tan_half(r.pdf, fis_rays_in_window(p));
+}

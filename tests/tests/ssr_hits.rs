@@ -1,0 +1,170 @@
+//! The per-ray hit records (`shader_core::ssr::hits`) change where the resolves' per-ray work is
+//! done, not what it computes: both neighbourhood resolves are compared, to the bit, with the
+//! per-(pixel, ray) evaluation they replaced (written out below from the same shader-core
+//! functions, so a hit record holding the wrong field, the wrong pixel's pdf or a stale value
+//! fails). CPU only: the CPU-vs-GPU comparison of the records and resolves is in ssr_sssr.rs,
+//! ssr_hdrp.rs and ssr_gltf.rs.
+
+use host::ssr::pipeline::{build_params, set_u32, HdrpResolve, Runner};
+use host::ssr::sssr::{sssr_params, SssrSettings};
+use host::ssr::{scene, SsrSettings};
+use host::Backend;
+use shader_core::ieee;
+use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_STOCHASTIC};
+use shader_core::ssr::resolve::{
+    edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit, sample_color,
+    ssr_sample_weight, OUT_STRIDE,
+};
+use shader_core::ssr::stochastic::{eligible, ray_pdf_at_hit, ray_weight, MIRROR_ROUGHNESS};
+use shader_core::ssr::trace::{load_surface, RAY_STRIDE};
+use shader_core::vector::Vec3;
+
+const W: usize = 96;
+const H: usize = 72;
+
+/// (rgb, opacity) from the ratio sums, as the resolves store them.
+fn finish(p: &SsrParams, rough: f32, acc: Vec3, acc_a: f32, acc_w: f32) -> [f32; 4] {
+    if !(acc_w > 0.0) {
+        return [0.0; 4];
+    }
+    let k = ieee::div(perceptual_roughness_fade(rough, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length), acc_w);
+    let c = acc * k;
+    [c.x, c.y, c.z, acc_a * k]
+}
+
+/// The stochastic resolve of pixel (x, y) with every per-ray quantity evaluated per pair.
+fn sssr_pixel_per_pair(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x: u32, y: u32) -> [f32; 4] {
+    let s = load_surface(p, gbuf, x, y);
+    if !eligible(p, &s) {
+        return [0.0; 4];
+    }
+    let spp = p.samples_per_pixel;
+    let mirror = s.perceptual_roughness < MIRROR_ROUGHNESS;
+    let alpha = s.perceptual_roughness * s.perceptual_roughness;
+    let nv = s.n.dot(s.v);
+    let radius: i32 = if mirror || p.flags & FLAG_REUSE == 0 { 0 } else { p.resolve_radius as i32 };
+    let window = (2 * radius + 1) * (2 * radius + 1);
+    let rays_in_window = (window as f32 * spp as f32 * p.rays_per_quad as f32 * 0.25).max(1.0);
+    let (mut acc, mut acc_a, mut acc_w) = (Vec3::ZERO, 0.0f32, 0.0f32);
+    for dy in -radius..=radius {
+        for dx in -radius..=radius {
+            let (qx, qy) = (x as i32 + dx, y as i32 + dy);
+            if qx < 0 || qy < 0 || qx as u32 >= p.width || qy as u32 >= p.height {
+                continue;
+            }
+            let q = qy as u32 * p.width + qx as u32;
+            let sq = load_surface(p, gbuf, qx as u32, qy as u32);
+            for k in 0..spp {
+                let r = load_ray(rays, ((q * spp + k) as usize) * RAY_STRIDE);
+                if !r.valid {
+                    continue;
+                }
+                let (l, pdf) = if r.hit {
+                    let hp = hit_position(p, gbuf, r.hx, r.hy);
+                    ((hp - s.pos).normalize_or_zero(), ray_pdf_at_hit(p, &sq, hp, r.pdf))
+                } else {
+                    (r.dir, r.pdf)
+                };
+                let w = ray_weight(&s, alpha, nv, lambda_cos(nv, alpha), mirror, l, pdf);
+                if !(w > 0.0) {
+                    continue;
+                }
+                if r.hit {
+                    let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
+                    let a = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
+                    let mut mip = 0.0;
+                    if p.flags & FLAG_FIS != 0 && !mirror {
+                        let tan_half = ieee::sqrt(ieee::div(core::f32::consts::FRAC_1_PI, r.pdf * rays_in_window));
+                        let (ddx, ddy) = (r.hx - s.origin.x, r.hy - s.origin.y);
+                        mip = log2_approx(2.0 * ieee::sqrt(ddx * ddx + ddy * ddy) * tan_half).max(0.0);
+                    }
+                    acc = acc + sample_color(p, color, u, v, mip) * (a * w);
+                    acc_a += a * w;
+                }
+                acc_w += w;
+            }
+        }
+    }
+    finish(p, s.perceptual_roughness, acc, acc_a, acc_w)
+}
+
+/// HDRP's 3x3 neighbourhood resolve of pixel (x, y), per pair.
+fn hdrp_pixel_per_pair(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x: u32, y: u32) -> [f32; 4] {
+    let s = load_surface(p, gbuf, x, y);
+    if !s.valid {
+        return [0.0; 4];
+    }
+    let alpha = s.perceptual_roughness * s.perceptual_roughness;
+    let (mut acc, mut acc_a, mut acc_w) = (Vec3::ZERO, 0.0f32, 0.0f32);
+    for dy in -1i32..=1 {
+        for dx in -1i32..=1 {
+            let (qx, qy) = (x as i32 + dx, y as i32 + dy);
+            if qx < 0 || qy < 0 || qx as u32 >= p.width || qy as u32 >= p.height {
+                continue;
+            }
+            let r = load_ray(rays, ((qy as u32 * p.width + qx as u32) as usize) * RAY_STRIDE);
+            if !r.valid {
+                continue;
+            }
+            let l = if r.hit { (hit_position(p, gbuf, r.hx, r.hy) - s.pos).normalize_or_zero() } else { r.dir };
+            let w = ssr_sample_weight(s.n, s.v, l, alpha);
+            if !(w > 0.0) {
+                continue;
+            }
+            if r.hit {
+                let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
+                let a = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
+                acc = acc + sample_color(p, color, u, v, 0.0) * (a * w);
+                acc_a += a * w;
+            }
+            acc_w += w;
+        }
+    }
+    finish(p, s.perceptual_roughness, acc, acc_a, acc_w)
+}
+
+fn assert_same(tag: &str, got: &[f32], want: impl Fn(u32, u32) -> [f32; 4]) -> usize {
+    let mut lit = 0;
+    for (i, o) in got.chunks_exact(OUT_STRIDE).enumerate() {
+        let (x, y) = ((i % W) as u32, (i / W) as u32);
+        let w = want(x, y);
+        for c in 0..4 {
+            assert_eq!(o[c].to_bits(), w[c].to_bits(), "{tag}: pixel ({x}, {y}) channel {c}: {} vs per-pair {}", o[c], w[c]);
+        }
+        lit += (w[3] > 0.0) as usize;
+    }
+    lit
+}
+
+#[test]
+fn neighbourhood_resolves_equal_their_per_pair_form_to_the_bit() {
+    let d = SssrSettings::default();
+    for (name, t) in [
+        ("floor", SssrSettings { rays_per_quad: 4, samples_per_pixel: 1, ..d.clone() }),
+        ("floor", SssrSettings { rays_per_quad: 1, samples_per_pixel: 4, ..d.clone() }),
+        ("animated", SssrSettings { rays_per_quad: 2, samples_per_pixel: 1, fis: false, ..d.clone() }),
+        ("hallway", SssrSettings { rays_per_quad: 4, samples_per_pixel: 1, reuse: false, ..d.clone() }),
+    ] {
+        let g = scene(name).unwrap().render_gbuffer(W, H, 4);
+        let gbuf = g.packed();
+        let tag = format!("{name} SSSR rpq {} spp {} reuse {} fis {}", t.rays_per_quad, t.samples_per_pixel, t.reuse, t.fis);
+        let consts = sssr_params(&g, &SsrSettings { frame: 2, ..SsrSettings::default() }, &t).unwrap();
+        let p = SsrParams::load(&consts);
+        let mut c = Runner::new(&Backend::Cpu);
+        let f = c.sssr_frame_passes(&consts, &gbuf, &g.depth_layers(), &g.color).unwrap();
+        let lit = assert_same(&tag, &f.reflection, |x, y| sssr_pixel_per_pair(&p, &gbuf, &f.color_pyramid, &f.rays, x, y));
+        assert!(lit > W * H / 10, "{tag}: only {lit} pixels reflect anything: the comparison would prove little");
+
+        // HDRP's 3x3 resolve on GGX-sampled rays of the same G-buffer.
+        let mut consts = build_params(&g, &SsrSettings::default()).unwrap();
+        let flags = consts[idx::FLAGS].to_bits() | FLAG_STOCHASTIC;
+        set_u32(&mut consts, idx::FLAGS, flags);
+        let p = SsrParams::load(&consts);
+        let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
+        let cp = c.color_pyramid(&consts, &g.color).unwrap();
+        let rays = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
+        let out = c.hdrp_reproject(&consts, &gbuf, &cp, &rays, HdrpResolve::Block3x3).unwrap();
+        let lit = assert_same(&format!("{name} HDRP 3x3"), &out, |x, y| hdrp_pixel_per_pair(&p, &gbuf, &cp, &rays, x, y));
+        assert!(lit > W * H / 10, "{name} HDRP: only {lit} pixels reflect anything");
+    }
+}
