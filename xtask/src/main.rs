@@ -66,6 +66,16 @@ enum Cmd {
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
     },
+    /// Pack the real-GPU check for a machine without a Rust toolchain into .gpu-bundle/ (ignored
+    /// by git): the host binary and the CPU-vs-GPU test binaries, stripped and xz-compressed, the
+    /// shared Cornell box the tests read, and `run.sh` (xtask/gpu-run.sh), which runs the tests
+    /// with CI=true and the kernel, SSR and render benchmarks there and writes its reports to $OUT.
+    /// Fails if the bundle would exceed the device tool's 64 MiB transfer.
+    GpuBundle {
+        /// Test binaries of the `crosscheck` crate to include (comma separated).
+        #[arg(long, value_delimiter = ',', default_value = "eval_registry,render_crosscheck,ssr_gltf,ssr_sssr")]
+        tests: Vec<String>,
+    },
 }
 
 fn workspace_root() -> PathBuf {
@@ -83,7 +93,118 @@ fn main() -> Result<()> {
             rest,
         } => test(install_lavapipe, &rest),
         Cmd::DocsReports { only } => docs_reports(&only),
+        Cmd::GpuBundle { tests } => gpu_bundle(&tests),
     }
+}
+
+/// The device tool's limit on what travels with one call: the working tree (tracked files) and
+/// the carried paths together, less 4 MiB for the Vulkan loader packages (.gl/).
+const TRANSFER_LIMIT: u64 = (64 - 4) << 20;
+
+fn gpu_bundle(tests: &[String]) -> Result<()> {
+    let root = workspace_root();
+    let shared = root.parent().context("the workspace has no parent")?.join("shared");
+    let scenes = shared.join("scenes/cornell_box");
+    if !scenes.join("cornell_box.gltf").exists() {
+        bail!("{} is missing: the render and SSR cross-checks read it", scenes.display());
+    }
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let ok = Command::new(&cargo).current_dir(&root).args(["build", "--release", "-p", "host"]).status().context("running cargo build")?.success();
+    if !ok {
+        bail!("cargo build --release -p host failed");
+    }
+    let mut args: Vec<String> = ["test", "--release", "-p", "crosscheck", "--no-run", "--message-format=json"].iter().map(|a| a.to_string()).collect();
+    for t in tests {
+        args.push("--test".into());
+        args.push(t.clone());
+    }
+    let out = Command::new(&cargo).current_dir(&root).args(&args).stderr(std::process::Stdio::inherit()).output().context("running cargo test --no-run")?;
+    if !out.status.success() {
+        bail!("cargo test --no-run failed for {}", tests.join(", "));
+    }
+    // Each test binary appears as `"executable":"<path>"` in a compiler-artifact line whose
+    // target name is the test's.
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut binaries: Vec<(String, PathBuf)> = Vec::new();
+    for t in tests {
+        let line = text
+            .lines()
+            .find(|l| l.contains(&format!("\"name\":\"{t}\"")) && l.contains("\"executable\":\""))
+            .with_context(|| format!("cargo built no test binary named {t}"))?;
+        let exe = line.split("\"executable\":\"").nth(1).and_then(|r| r.split('"').next()).context("unreadable cargo JSON")?;
+        binaries.push((format!("test-{t}"), PathBuf::from(exe)));
+    }
+    binaries.push(("host".into(), root.join("target/release/host")));
+    let dir = root.join(".gpu-bundle");
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).with_context(|| format!("removing {}", dir.display()))?;
+    }
+    std::fs::create_dir_all(dir.join("bin"))?;
+    for (name, exe) in &binaries {
+        let tmp = dir.join(name);
+        std::fs::copy(exe, &tmp).with_context(|| format!("copying {}", exe.display()))?;
+        let strip = Command::new("strip").arg(&tmp).status().context("running strip (binutils)")?;
+        if !strip.success() {
+            bail!("strip failed on {}", tmp.display());
+        }
+        let xz = Command::new("xz").args(["-T0", "-6", "-f"]).arg(&tmp).status().context("running xz")?;
+        if !xz.success() {
+            bail!("xz failed on {}", tmp.display());
+        }
+        std::fs::rename(dir.join(format!("{name}.xz")), dir.join("bin").join(format!("{name}.xz")))?;
+    }
+    std::fs::create_dir_all(dir.join("scenes/cornell_box"))?;
+    for e in std::fs::read_dir(&scenes)? {
+        let e = e?;
+        if e.file_type()?.is_file() {
+            std::fs::copy(e.path(), dir.join("scenes/cornell_box").join(e.file_name()))?;
+        }
+    }
+    std::fs::copy(root.join("xtask/gpu-run.sh"), dir.join("run.sh"))?;
+    // The test binaries reach the scenes through CARGO_MANIFEST_DIR baked in at build time.
+    std::fs::write(
+        dir.join("baked.env"),
+        format!("BAKED_ROOT={}\nBAKED_SHARED={}\n", root.display(), shared.display()),
+    )?;
+    let head = Command::new("git").current_dir(&root).args(["describe", "--always", "--dirty"]).output().context("running git describe")?;
+    std::fs::write(dir.join("commit"), String::from_utf8_lossy(&head.stdout).trim())?;
+    let size = dir_size(&dir)?;
+    for e in std::fs::read_dir(dir.join("bin"))? {
+        let e = e?;
+        eprintln!("[gpu-bundle] {} {:.1} MiB", e.file_name().to_string_lossy(), e.metadata()?.len() as f64 / 1048576.0);
+    }
+    let files = Command::new("git").current_dir(&root).args(["ls-files", "-z"]).output().context("running git ls-files")?;
+    let tree: u64 = files
+        .stdout
+        .split(|&b| b == 0)
+        .filter(|p| !p.is_empty())
+        .filter_map(|p| std::fs::metadata(root.join(String::from_utf8_lossy(p).as_ref())).ok())
+        .map(|m| m.len())
+        .sum();
+    if size + tree > TRANSFER_LIMIT {
+        bail!(
+            "the bundle ({:.1} MiB) and the working tree ({:.1} MiB) exceed the {} MiB a device call carries: pass fewer --tests",
+            size as f64 / 1048576.0,
+            tree as f64 / 1048576.0,
+            TRANSFER_LIMIT >> 20
+        );
+    }
+    eprintln!(
+        "[gpu-bundle] wrote {} ({:.1} MiB; with the working tree {:.1} MiB). On the device machine: carry [\".gpu-bundle\", \".gl\"], run `bash .gpu-bundle/run.sh`",
+        dir.display(),
+        size as f64 / 1048576.0,
+        (size + tree) as f64 / 1048576.0
+    );
+    Ok(())
+}
+
+fn dir_size(dir: &Path) -> Result<u64> {
+    let mut total = 0;
+    for e in std::fs::read_dir(dir)? {
+        let e = e?;
+        total += if e.file_type()?.is_dir() { dir_size(&e.path())? } else { e.metadata()?.len() };
+    }
+    Ok(total)
 }
 
 /// The reports of `cargo xtask docs-reports`: (name, host arguments). Outputs that are not

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# The real-GPU check, run from the repository root on a machine with a GPU and no Rust toolchain
+# (the `device` tool's machine): the cross-check test binaries and the host's benchmarks that
+# `cargo xtask gpu-bundle` packed into .gpu-bundle/. Writes at most 7 files to $OUT
+# (default out/gpu-run): run.log (machine, adapter, every test's output, the SSR per-pass times),
+# kernel-rates.{md,json}, render-bench.{md,json}. Exits non-zero if a test failed.
+#
+#   device run, carry [".gpu-bundle", ".gl"]:  bash .gpu-bundle/run.sh
+#
+# GPU_RUN_ADAPTER=<substring> picks the Vulkan adapter (default: the runner's choice, a discrete
+# GPU first); GPU_RUN_QUICK=1 skips the benchmarks (tests only).
+set -u
+here=$(cd "$(dirname "$0")" && pwd)
+OUT=${OUT:-out/gpu-run}
+mkdir -p "$OUT"
+log="$OUT/run.log"
+: >"$log"
+say() { echo "$*" | tee -a "$log"; }
+
+# The Vulkan loader: the device machine starts bare (see the device tool's README for .gl/).
+if [ -d .gl ]; then
+    for f in .gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
+fi
+if ! ldconfig -p | grep -q libvulkan.so.1; then
+    say "no Vulkan loader (libvulkan.so.1): bring one (.gl/) or install libvulkan1"
+    exit 2
+fi
+nv=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+if [ -z "${VK_DRIVER_FILES:-}" ] && [ -f "$nv" ] && ! ls /usr/share/vulkan/icd.d/*.json >/dev/null 2>&1; then
+    export VK_DRIVER_FILES=$nv
+fi
+export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp/xdg-runtime}
+mkdir -p "$XDG_RUNTIME_DIR"
+[ -n "${GPU_RUN_ADAPTER:-}" ] && export HOST_ADAPTER=$GPU_RUN_ADAPTER
+
+# The tests read the shared scenes through the path baked in at build time.
+. "$here/baked.env"
+mkdir -p "$BAKED_ROOT/tests" "$BAKED_SHARED/scenes"
+[ -d "$BAKED_SHARED/scenes/cornell_box" ] || cp -r "$here/scenes/cornell_box" "$BAKED_SHARED/scenes/"
+
+bin=/tmp/gpu-bundle-bin
+mkdir -p "$bin"
+for f in "$here"/bin/*.xz; do
+    xz -dc "$f" >"$bin/$(basename "$f" .xz)" && chmod +x "$bin/$(basename "$f" .xz)"
+done
+
+say "== machine: $(uname -m), $(nproc) cores, $(uptime)"
+command -v nvidia-smi >/dev/null && nvidia-smi -L 2>&1 | tee -a "$log"
+say "== bundle: $(cat "$here/commit")"
+"$bin/host" info 2>&1 | tee -a "$log"
+
+failed=0
+for t in "$bin"/test-*; do
+    name=$(basename "$t")
+    say "== $name (CI=true: a comparison that cannot run fails)"
+    t0=$(date +%s)
+    CI=true timeout 300 "$t" 2>&1 | tee -a "$log"
+    rc=${PIPESTATUS[0]}
+    say "== $name: exit $rc in $(( $(date +%s) - t0 )) s"
+    [ "$rc" -eq 0 ] || failed=1
+done
+
+if [ "${GPU_RUN_QUICK:-0}" != 1 ]; then
+    say "== bench kernels"
+    timeout 240 "$bin/host" bench kernels --device gpu --rows 1048576 --repeats 3 --output "$OUT/kernel-rates.md" 2>&1 | tee -a "$log"
+    for pipeline in "sssr" "hdrp --resolve 3x3" "hdrp --resolve approx"; do
+        say "== ssr 1920x1080 floor $pipeline, GPU then CPU backend"
+        for device in gpu cpu; do
+            timeout 120 "$bin/host" ssr --scene floor --pipeline $pipeline --width 1920 --height 1080 --reference-samples 0 \
+                --device $device -o /tmp/gpu-run-ssr.exr 2>&1 | tee -a "$log"
+        done
+    done
+    say "== bench render"
+    timeout 240 "$bin/host" bench render --device gpu --report "$OUT/render-bench.md" 2>&1 | tee -a "$log"
+fi
+say "== done: tests $([ $failed -eq 0 ] && echo passed || echo FAILED)"
+exit $failed
