@@ -12,6 +12,7 @@ use std::sync::OnceLock;
 
 pub mod chi2;
 pub mod inputs;
+pub mod ssr;
 
 /// Is this a CI run (`CI=true`)? There, a GPU comparison that cannot run is a failure.
 pub fn in_ci() -> bool {

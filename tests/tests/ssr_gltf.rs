@@ -4,6 +4,7 @@
 //! camera), each with its far-depth layer; the orbit scene's temporal pass with its previous
 //! frame.
 
+use crosscheck::ssr::sssr_passes_bit_equal;
 use crosscheck::{assert_bits_equal, gpu_backend};
 use host::render::environment::{self as env, EnvSpec};
 use host::render::gbuffer::{export_frame, orbit, FrameSpec, Quiet};
@@ -15,9 +16,8 @@ use host::ssr::sssr::{sssr_params, SssrSettings};
 use host::ssr::{GBuffer, SsrSettings};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
-use shader_core::ssr::params::{idx, REPROJECT_HIT, REPROJECT_SURFACE, TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
+use shader_core::ssr::params::{idx, TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
 use shader_core::ssr::resolve::HIT_STRIDE;
-use shader_core::ssr::stochastic::{HISTORY_STRIDE, LIST_STRIDE, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
 
 const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
@@ -97,29 +97,8 @@ fn ssr_passes_match_gpu_bit_for_bit_on_gltf_scenes() {
             let s = SsrSettings { frame: 3, ..SsrSettings::default() };
             let mut consts = sssr_params(&g, &s, &t).unwrap();
             let tag = format!("{name} SSSR rpq {} spp {}", t.rays_per_quad, t.samples_per_pixel);
-            let tiles = c.sssr_classify(&consts, &gbuf).unwrap();
-            assert_bits_equal(&format!("{tag} classify"), TILE_STRIDE, &tiles, &q.sssr_classify(&consts, &gbuf).unwrap());
-            let off = c.sssr_prefix(&tiles).unwrap();
-            assert_bits_equal(&format!("{tag} prefix"), 1, &off, &q.sssr_prefix(&tiles).unwrap());
-            let list = c.sssr_emit(&consts, &gbuf, &off).unwrap();
-            assert_bits_equal(&format!("{tag} list"), LIST_STRIDE, &list, &q.sssr_emit(&consts, &gbuf, &off).unwrap());
-            let count = off[off.len() - 1].to_bits() as usize;
-            assert!(count > 0, "{tag}: no rays");
-            let rays = c.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap();
-            assert_bits_equal(&format!("{tag} trace"), RAY_STRIDE, &rays, &q.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap());
-            let hits = c.ray_hits(&consts, &gbuf, &rays).unwrap();
-            assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hits, &q.ray_hits(&consts, &gbuf, &rays).unwrap());
-            let res = c.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap();
-            assert_bits_equal(&format!("{tag} resolve"), 4, &res, &q.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap());
-            let dist = c.sssr_hit_distance(&consts, &gbuf, &rays).unwrap();
-            assert_bits_equal(&format!("{tag} hit distance"), 1, &dist, &q.sssr_hit_distance(&consts, &gbuf, &rays).unwrap());
-            let hist: Vec<f32> = res.chunks_exact(4).flat_map(|c| [c[0] * 0.5, c[1], c[2] * 2.0, c[3], 3.0]).collect();
-            let prev = g0.packed();
-            for mode in [REPROJECT_HIT, REPROJECT_SURFACE] {
-                consts[idx::TEMPORAL_REPROJECTION] = f32::from_bits(mode);
-                let tc = c.sssr_temporal(&consts, &gbuf, &prev, &dist, &res, &hist).unwrap();
-                assert_bits_equal(&format!("{tag} temporal {mode}"), HISTORY_STRIDE, &tc, &q.sssr_temporal(&consts, &gbuf, &prev, &dist, &res, &hist).unwrap());
-            }
+            let f = sssr_passes_bit_equal(&tag, &mut c, &mut q, &mut consts, &gbuf, &g0.packed(), &dp, &cp);
+            assert!(f.count > 0, "{tag}: no rays");
         }
         // The specular pass with the G-buffer's base colours.
         let lut = host::energy::precompute(&Backend::Cpu, &host::energy::TableSpec::default(), false).unwrap().0.lut_buffer();

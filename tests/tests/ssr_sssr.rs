@@ -3,6 +3,7 @@
 //! samplers' pdfs and importance-sampling bias, and the effect of ray reuse and temporal
 //! accumulation (hit-based reprojection against surface motion on the animated scene).
 
+use crosscheck::ssr::sssr_passes_bit_equal;
 use crosscheck::{assert_bits_equal, gpu_backend};
 use host::ssr::cli::errors;
 use host::ssr::pipeline::Runner;
@@ -10,8 +11,7 @@ use host::ssr::pipeline::VndfSampler;
 use host::ssr::sssr::{expected_list, run_sssr, sssr_params, Reprojection, ScanKernel, SssrSettings};
 use host::ssr::{render_reference, scene, SsrSettings};
 use host::Backend;
-use shader_core::ssr::params::{idx, SsrParams, REPROJECT_HIT, REPROJECT_SURFACE};
-use shader_core::ssr::resolve::HIT_STRIDE;
+use shader_core::ssr::params::SsrParams;
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::{load_surface, RAY_STRIDE};
 use shader_core::vector::Vec3;
@@ -51,42 +51,21 @@ fn sssr_passes_match_gpu_bit_for_bit() {
         let mut q = Runner::new(gpu);
         let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
-        let tiles = c.sssr_classify(&consts, &gbuf).unwrap();
-        assert_bits_equal(&format!("{tag} classify"), TILE_STRIDE, &tiles, &q.sssr_classify(&consts, &gbuf).unwrap());
-        let off = c.sssr_prefix(&tiles).unwrap();
-        assert_bits_equal(&format!("{tag} prefix"), 1, &off, &q.sssr_prefix(&tiles).unwrap());
-        let list = c.sssr_emit(&consts, &gbuf, &off).unwrap();
-        assert_bits_equal(&format!("{tag} list"), LIST_STRIDE, &list, &q.sssr_emit(&consts, &gbuf, &off).unwrap());
-        let count = off[off.len() - 1].to_bits() as usize;
+        let f = sssr_passes_bit_equal(&tag, &mut c, &mut q, &mut consts, &gbuf, &prev, &dp, &cp);
         let want = expected_list(&g, &s, &t).unwrap();
-        assert_eq!(count, want.len(), "{tag}: ray count");
+        assert_eq!(f.count, want.len(), "{tag}: ray count");
         for (k, (pixel, smp)) in want.iter().enumerate() {
-            assert_eq!(list[k * LIST_STRIDE].to_bits(), *pixel, "{tag}: entry {k}");
-            assert_eq!(list[k * LIST_STRIDE + 1].to_bits() & 0xff, *smp, "{tag}: entry {k}");
+            assert_eq!(f.list[k * LIST_STRIDE].to_bits(), *pixel, "{tag}: entry {k}");
+            assert_eq!(f.list[k * LIST_STRIDE + 1].to_bits() & 0xff, *smp, "{tag}: entry {k}");
         }
-        let rays = c.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap();
-        assert_bits_equal(&format!("{tag} trace"), RAY_STRIDE, &rays, &q.sssr_trace(&consts, &gbuf, &dp, &list, count).unwrap());
-        let hits = c.ray_hits(&consts, &gbuf, &rays).unwrap();
-        assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hits, &q.ray_hits(&consts, &gbuf, &rays).unwrap());
-        let res = c.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap();
-        assert_bits_equal(&format!("{tag} resolve"), 4, &res, &q.sssr_resolve(&consts, &gbuf, &cp, &rays).unwrap());
-        // Temporal: a history that is the resolve itself shifted by a frame count, both reprojections.
-        let hist: Vec<f32> = res.chunks_exact(4).flat_map(|c| [c[0] * 0.5, c[1], c[2] * 2.0, c[3], 3.0]).collect();
-        let dist = c.sssr_hit_distance(&consts, &gbuf, &rays).unwrap();
-        assert_bits_equal(&format!("{tag} hit distance"), 1, &dist, &q.sssr_hit_distance(&consts, &gbuf, &rays).unwrap());
-        assert!(dist.iter().any(|&d| d > 0.0), "{tag}: no hit distance");
-        // Temporal, both reprojections. The history has n = 3 everywhere, so an accepted texel
-        // gives n = 4 and a rejected one restarts at n = 1: both branches must be exercised
-        // (the hallway has no sky and, static, rejects nothing).
-        for mode in [REPROJECT_HIT, REPROJECT_SURFACE] {
-            consts[idx::TEMPORAL_REPROJECTION] = f32::from_bits(mode);
-            let tc = c.sssr_temporal(&consts, &gbuf, &prev, &dist, &res, &hist).unwrap();
+        assert!(f.hit_distance.iter().any(|&d| d > 0.0), "{tag}: no hit distance");
+        // Both temporal branches must be exercised (the hallway has no sky and, static, rejects
+        // nothing): the history has n = 3, an accepted texel gives n = 4, a rejected one n = 1.
+        for tc in &f.temporal {
             let accepted = tc.chunks_exact(HISTORY_STRIDE).filter(|h| h[4] == 4.0).count();
             let restarted = tc.chunks_exact(HISTORY_STRIDE).filter(|h| h[4] == 1.0).count();
             assert!(accepted > W * H / 10, "{tag}: temporal accepted history on only {accepted} pixels");
             restarted_total += restarted;
-            let tg = q.sssr_temporal(&consts, &gbuf, &prev, &dist, &res, &hist).unwrap();
-            assert_bits_equal(&format!("{tag} temporal (reprojection {mode})"), HISTORY_STRIDE, &tc, &tg);
         }
     }
     assert!(restarted_total > W * H, "temporal: only {restarted_total} restarted pixels over all cases");

@@ -151,22 +151,8 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
     if f.color.len() != 3 * n {
         bail!("colour buffer has {} values for {w}x{h}", f.color.len());
     }
-    let mut gb = GBuffer {
-        width: w,
-        height: h,
-        depth: Vec::with_capacity(n),
-        depth_far: Some(Vec::with_capacity(n)),
-        normal: Vec::with_capacity(3 * n),
-        roughness: Vec::with_capacity(n),
-        metalness: Vec::with_capacity(n),
-        base_color: Vec::with_capacity(3 * n),
-        color: f.color,
-        motion: Vec::with_capacity(2 * n),
-        camera: f.ssr_camera,
-        previous_camera: f.ssr_previous,
-        fallback: f.fallback,
-        reference: if g.samples > 0 { reference } else { None },
-    };
+    let mut gb = GBuffer::empty(w, h, f.color, f.ssr_camera, f.ssr_previous, f.fallback);
+    gb.reference = if g.samples > 0 { reference } else { None };
     let mut r = Reference {
         width: w,
         height: h,
@@ -189,8 +175,7 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         gb.roughness.push(px[layout::ROUGHNESS]);
         gb.metalness.push(px[layout::METALLIC]);
         gb.base_color.extend_from_slice(&px[layout::BASE..layout::BASE + 3]);
-        let point = depth.is_finite().then(|| f.ssr_camera.unproject(w, h, sx, sy, depth as f64));
-        gb.motion.extend(f.ssr_camera.motion(&f.ssr_previous, w, h, sx, sy, point));
+        gb.motion.extend(f.ssr_camera.motion_at_depth(&f.ssr_previous, w, h, sx, sy, depth));
         let glossy = px[layout::GLOSSY] != 0.0;
         gb.depth_far.as_mut().expect("allocated above").push(px[layout::DEPTH_FAR]);
         let (weight, same, samples) = (px[layout::WEIGHT], px[layout::WEIGHT_SAME], px[layout::SAMPLES]);

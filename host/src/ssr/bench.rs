@@ -13,7 +13,7 @@ use super::reference::{render_reference, Reference};
 use super::scene::scene;
 use super::gbuffer::GBuffer;
 use super::gltf_scenes::GltfScene;
-use super::sssr::{run_sssr, FrameSequence, FrameSource, Reprojection, SssrSettings};
+use super::sssr::{run_sssr, FrameSequence, FrameSource, Reprojection, SssrSettings, StaticView};
 use super::metrics::figure;
 use crate::cli_args::pixels;
 use crate::{Backend, DeviceChoice};
@@ -409,6 +409,8 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
     let on_mask: Vec<bool> = reference.glossy.iter().zip(&reference.onscreen_fraction).map(|(&g, &f)| g && f >= 0.999).collect();
     let noise = super::reference::noise_rel(reference, &on_mask);
     let mut rows = Vec::new();
+    // The first frame after the camera cut (made on first use, shared by the temporal rows).
+    let mut cut_frame: Option<GBuffer> = None;
     for (number, c) in selected_configs(a)? {
         let res = run_config(cpu, src, gb, &s, &c, frame)?;
         let e = errors(&res, reference, sky);
@@ -442,8 +444,11 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
         // previous colour of the other view (`GBuffer::after_cut`); the same frame without any
         // history is the comparison point (what the cut costs with no ghosting at all).
         let after_cut = if let (true, Config::Sssr(t, _)) = (temporal, &c) {
-            let before = FrameSequence { first: 0, frames: vec![input.cut_from.clone(); t.temporal_frames as usize - 1] };
-            let cut = gb.after_cut(&input.cut_from)?;
+            let before = StaticView(&input.cut_from);
+            if cut_frame.is_none() {
+                cut_frame = Some(gb.after_cut(&input.cut_from)?);
+            }
+            let cut = cut_frame.as_ref().expect("made above");
             let s_cut = SsrSettings { frame: t.temporal_frames - 1, ..s.clone() };
             let r = run_config_frames(cpu, &before, &cut, &s_cut, &c, t.temporal_frames - 1, None)?;
             let fresh = run_config_frames(cpu, &before, &cut, &s_cut, &c, t.temporal_frames - 1, Some(1))?;

@@ -170,6 +170,13 @@ impl Camera {
         std::array::from_fn(|k| m[k] as f64 * d[0] + m[4 + k] as f64 * d[1] + m[8 + k] as f64 * d[2])
     }
 
+    /// [`Camera::motion`] of the point a G-buffer stores at screen point (sx, sy): at linear
+    /// view depth `depth`, or the sky's direction where `depth` is not finite.
+    pub fn motion_at_depth(&self, previous: &Camera, width: usize, height: usize, sx: f64, sy: f64, depth: f32) -> [f32; 2] {
+        let point = depth.is_finite().then(|| self.unproject(width, height, sx, sy, depth as f64));
+        self.motion(previous, width, height, sx, sy, point)
+    }
+
     /// The motion vector UV(this camera) - UV(`previous`) of screen point (sx, sy) (pixels):
     /// of world point `point`, or for the sky (`None`) of the direction through (sx, sy)
     /// (a point at infinity, which only the rotation moves); 0 where the previous camera does

@@ -97,6 +97,28 @@ pub fn camera_path(exr: &Path) -> PathBuf {
 }
 
 impl GBuffer {
+    /// A `width` x `height` G-buffer with its colour, cameras and fallback and empty per-pixel
+    /// channels (a far-depth channel included) sized for the pixels a producer pushes in order.
+    pub fn empty(width: usize, height: usize, color: Vec<f32>, camera: Camera, previous_camera: Camera, fallback: [f32; 3]) -> GBuffer {
+        let n = width * height;
+        GBuffer {
+            width,
+            height,
+            depth: Vec::with_capacity(n),
+            depth_far: Some(Vec::with_capacity(n)),
+            normal: Vec::with_capacity(3 * n),
+            roughness: Vec::with_capacity(n),
+            metalness: Vec::with_capacity(n),
+            base_color: Vec::with_capacity(3 * n),
+            color,
+            motion: Vec::with_capacity(2 * n),
+            camera,
+            previous_camera,
+            fallback,
+            reference: None,
+        }
+    }
+
     /// This frame as the first frame after a camera cut from `before` (the last frame of another
     /// view): what a renderer hands SSR then. The previous camera is `before`'s camera, the
     /// motion vectors reproject each pixel's point into it (the sky: its direction), and the
@@ -107,13 +129,12 @@ impl GBuffer {
         }
         let (w, h) = (self.width, self.height);
         let mut g = self.clone();
-        g.previous_camera = before.camera.clone();
+        g.previous_camera = before.camera;
         g.color = before.color.clone();
         g.motion.clear();
         for (i, &depth) in self.depth.iter().enumerate() {
             let (sx, sy) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
-            let point = depth.is_finite().then(|| self.camera.unproject(w, h, sx, sy, depth as f64));
-            g.motion.extend(self.camera.motion(&before.camera, w, h, sx, sy, point));
+            g.motion.extend(self.camera.motion_at_depth(&before.camera, w, h, sx, sy, depth));
         }
         g.validate()?;
         Ok(g)

@@ -290,22 +290,7 @@ impl Scene {
             })
             .collect();
         let color = self.render_color(width, height, &prev);
-        let mut g = GBuffer {
-            width,
-            height,
-            depth: Vec::with_capacity(n),
-            depth_far: Some(Vec::with_capacity(n)),
-            normal: Vec::with_capacity(3 * n),
-            roughness: Vec::with_capacity(n),
-            metalness: Vec::with_capacity(n),
-            base_color: Vec::with_capacity(3 * n),
-            color,
-            motion: Vec::with_capacity(2 * n),
-            camera: cam,
-            previous_camera: prev,
-            fallback: self.sky,
-            reference: None,
-        };
+        let mut g = GBuffer::empty(width, height, color, cam, prev, self.sky);
         for (z, zb, nn, r, m, bc, mv) in rows {
             g.depth.push(z);
             g.depth_far.as_mut().unwrap().push(zb);

@@ -609,7 +609,7 @@ impl FrameSource for Scene {
 }
 
 /// Stored G-buffers of frames `first ..`: for G-buffers exported along a camera path
-/// (`host render --gbuffer --orbit`), or a camera cut (another view's frames before the last).
+/// (`host render --gbuffer --orbit`).
 pub struct FrameSequence {
     /// Frame number of `frames[0]`.
     pub first: u32,
@@ -621,11 +621,25 @@ impl FrameSource for FrameSequence {
     /// invented); a stored frame of another size is an error.
     fn gbuffer(&self, width: usize, height: usize, f: u32) -> Result<Option<GBuffer>> {
         let Some(g) = f.checked_sub(self.first).and_then(|i| self.frames.get(i as usize)) else { return Ok(None) };
-        if g.width != width || g.height != height {
-            anyhow::bail!("stored frame {f} is {}x{}, the run is {width}x{height}", g.width, g.height);
-        }
-        Ok(Some(g.clone()))
+        stored_frame(g, width, height, f)
     }
+}
+
+/// One stored view for every frame before the last: a static camera held before a camera cut.
+pub struct StaticView<'a>(pub &'a GBuffer);
+
+impl FrameSource for StaticView<'_> {
+    fn gbuffer(&self, width: usize, height: usize, f: u32) -> Result<Option<GBuffer>> {
+        stored_frame(self.0, width, height, f)
+    }
+}
+
+/// A stored frame `f` for a `width` x `height` run; another size is an error.
+fn stored_frame(g: &GBuffer, width: usize, height: usize, f: u32) -> Result<Option<GBuffer>> {
+    if g.width != width || g.height != height {
+        anyhow::bail!("stored frame {f} is {}x{}, the run is {width}x{height}", g.width, g.height);
+    }
+    Ok(Some(g.clone()))
 }
 
 /// The ray-list order is a pure function of the G-buffer: a CPU reference for tests.
