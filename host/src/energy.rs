@@ -7,11 +7,9 @@
 //! so the tables are bit-identical across backends for the same (resolution, samples, chunk,
 //! sequence, seed).
 
-use crate::gpu::{groups_2d, OutputSpec};
-use crate::timing::{Timing, TimingSource};
+use crate::timing::Timing;
 use crate::{Backend, DeviceChoice};
 use anyhow::{bail, Context, Result};
-use rayon::prelude::*;
 use shader_core::energy as core_energy;
 use shader_kernels::energy as kern;
 use std::path::{Path, PathBuf};
@@ -290,60 +288,6 @@ impl Tables {
     }
 }
 
-/// Run a 1D energy kernel over `n` invocations with `args` ([n, groups_x, ...]; groups_x is filled
-/// in here) and an optional LUT input; returns `n * stride` outputs.
-fn run_kernel(
-    backend: &Backend,
-    entry: &str,
-    args: &mut [u32],
-    lut: Option<&[f32]>,
-    n: usize,
-    stride: usize,
-) -> Result<(Vec<f32>, Timing)> {
-    let wg = shader_kernels::WORKGROUP_SIZE as usize;
-    let (gx, gy) = groups_2d(n.div_ceil(wg) as u32);
-    args[0] = n as u32;
-    args[1] = gx;
-    match backend {
-        Backend::Cpu => {
-            let t0 = Instant::now();
-            let a: &[u32] = args;
-            let out: Vec<f32> = match entry {
-                "energy::energy_albedo_table" => (0..n as u32)
-                    .into_par_iter()
-                    .flat_map_iter(|i| {
-                        let (e, ep) = kern::albedo_table_cell(i, a);
-                        [e, ep]
-                    })
-                    .collect(),
-                "energy::energy_albedo_avg" => (0..n as u32).into_par_iter().map(|j| kern::albedo_avg_cell(j, a)).collect(),
-                "energy::energy_furnace" => {
-                    let lut = lut.context("the furnace needs a LUT")?;
-                    (0..n as u32)
-                        .into_par_iter()
-                        .with_min_len(16)
-                        .flat_map_iter(|i| {
-                            let (x, y, z) = kern::furnace_pixel(i, a, lut);
-                            [x, y, z]
-                        })
-                        .collect()
-                }
-                _ => bail!("unknown energy kernel {entry}"),
-            };
-            debug_assert_eq!(out.len(), n * stride);
-            Ok((out, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock }))
-        }
-        Backend::Gpu(g) => {
-            let mut inputs: Vec<&[u8]> = vec![bytemuck::cast_slice(args)];
-            if let Some(l) = lut {
-                inputs.push(bytemuck::cast_slice(l));
-            }
-            let (res, t) = g.dispatch(entry, &inputs, &[OutputSpec::zeroed(n * stride * 4)], (gx, gy, 1))?;
-            Ok((bytemuck::cast_slice(&res[0]).to_vec(), t))
-        }
-    }
-}
-
 /// Precompute timings: the E / E' table and E_avg, each summed over its dispatches.
 #[derive(Clone, Copy, Debug)]
 pub struct PrecomputeTimes {
@@ -377,8 +321,11 @@ pub fn precompute(backend: &Backend, spec: &TableSpec, progress: bool) -> Result
     let mut start = 0u32;
     while start < spec.samples {
         let count = spec.chunk.min(spec.samples - start);
-        let mut args = [0, 0, spec.n_mu, spec.n_r, start, count, spec.seq.id(), spec.seed];
-        let (out, t) = run_kernel(backend, "energy::energy_albedo_table", &mut args, None, cells, 2)
+        let args = kern::AlbedoTableArgs { n_mu: spec.n_mu, n_r: spec.n_r, start, count, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
+        let (out, t) = backend
+            .launch("energy::energy_albedo_table", args, &[], cells, kern::TABLE_STRIDE, |a, i, out| {
+                kern::albedo_table_cell(0, &kern::AlbedoTableArgs { first: a.first + i, ..*a }, out)
+            })
             .with_context(|| format!("E table, samples {start}..{}", start + count))?;
         for c in 0..cells {
             sum_e[c] += f64::from(out[2 * c]);
@@ -395,8 +342,11 @@ pub fn precompute(backend: &Backend, spec: &TableSpec, progress: bool) -> Result
     let mut start = 0u32;
     while start < spec.avg_samples {
         let count = spec.chunk.min(spec.avg_samples - start);
-        let mut args = [0, 0, spec.n_avg, start, count, spec.seq.id(), spec.seed];
-        let (out, t) = run_kernel(backend, "energy::energy_albedo_avg", &mut args, None, n_avg, 1)
+        let args = kern::AlbedoAvgArgs { n_avg: spec.n_avg, start, count, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
+        let (out, t) = backend
+            .launch("energy::energy_albedo_avg", args, &[], n_avg, 1, |a, i, out| {
+                kern::albedo_avg_cell(0, &kern::AlbedoAvgArgs { first: a.first + i, ..*a }, out)
+            })
             .with_context(|| format!("E_avg, samples {start}..{}", start + count))?;
         for (s, v) in sum_avg.iter_mut().zip(&out) {
             *s += f64::from(*v);
@@ -474,23 +424,26 @@ impl FurnaceConfig {
         Ok(())
     }
 
-    fn args(&self, layout: u32, width: u32, height: u32, spheres_or_rows: u32) -> [u32; kern::FURNACE_ARGS] {
-        [
-            0,
-            0,
+    /// Run the furnace kernel over `width` x `height` pixels (`rows`: spheres or table rows).
+    fn run(&self, backend: &Backend, lut: &[f32], layout: u32, width: u32, height: u32, rows: u32) -> Result<(Vec<f32>, Timing)> {
+        let args = kern::FurnaceArgs {
             layout,
             width,
             height,
-            spheres_or_rows,
-            self.samples,
-            self.seq.id(),
-            self.seed,
-            self.mode.id(),
-            self.metallic.to_bits(),
-            self.base.to_bits(),
-            self.min_roughness.to_bits(),
-            0,
-        ]
+            rows,
+            samples: self.samples,
+            seq: self.seq.id(),
+            seed: self.seed,
+            mode: self.mode.id(),
+            metallic: self.metallic,
+            base: self.base,
+            min_roughness: self.min_roughness,
+            ..Default::default()
+        };
+        let n = (width * height) as usize;
+        backend.launch("energy::energy_furnace", args, &[bytemuck::cast_slice(lut)], n, kern::FURNACE_STRIDE, |a, i, out| {
+            kern::furnace_pixel(0, &kern::FurnaceArgs { first: a.first + i, ..*a }, lut, out)
+        })
     }
 }
 
@@ -509,8 +462,7 @@ pub fn furnace_spheres(backend: &Backend, lut: &[f32], cfg: &FurnaceConfig, sphe
         bail!("need 1 or more spheres of 1 or more pixels (at most 2^24 pixels), got {spheres} x {cell}");
     }
     let (w, h) = (spheres * cell, cell);
-    let mut args = cfg.args(kern::LAYOUT_SPHERES, w, h, spheres);
-    let (data, time) = run_kernel(backend, "energy::energy_furnace", &mut args, Some(lut), (w * h) as usize, kern::FURNACE_STRIDE)?;
+    let (data, time) = cfg.run(backend, lut, kern::LAYOUT_SPHERES, w, h, spheres)?;
     Ok(FurnaceImage { width: w, height: h, data, time })
 }
 
@@ -520,8 +472,7 @@ pub fn furnace_grid(backend: &Backend, lut: &[f32], cfg: &FurnaceConfig, n_mu: u
     if n_mu == 0 || n_r == 0 || n_mu > 4096 || n_r > 4096 {
         bail!("grid must be 1..=4096 per side, got {n_mu} x {n_r}");
     }
-    let mut args = cfg.args(kern::LAYOUT_GRID, n_mu, n_r, n_r);
-    let (data, _) = run_kernel(backend, "energy::energy_furnace", &mut args, Some(lut), (n_mu * n_r) as usize, kern::FURNACE_STRIDE)?;
+    let (data, _) = cfg.run(backend, lut, kern::LAYOUT_GRID, n_mu, n_r, n_r)?;
     Ok(data.chunks_exact(kern::FURNACE_STRIDE).map(|c| c[0]).collect())
 }
 

@@ -232,3 +232,17 @@ macro_rules! pixel_launch_args {
     )*};
 }
 pixel_launch_args!(shader_kernels::render::RenderArgs, shader_kernels::render::GBufferArgs);
+
+/// `LaunchArgs` for records whose launch fields are `invocations`, `groups_x`, `first`.
+macro_rules! launch_args {
+    ($($t:ty),*) => {$(
+        impl LaunchArgs for $t {
+            fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32) {
+                self.invocations = invocations;
+                self.groups_x = groups_x;
+                self.first = first;
+            }
+        }
+    )*};
+}
+launch_args!(shader_kernels::energy::AlbedoTableArgs, shader_kernels::energy::AlbedoAvgArgs, shader_kernels::energy::FurnaceArgs);

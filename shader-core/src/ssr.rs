@@ -2,7 +2,7 @@
 //! (Stachowiak 2015), as per-pixel functions shared by the CPU backend and the SPIR-V kernels.
 //!
 //! * [`mat4`]: a 4x4 f32 matrix with a fixed evaluation order (cameras).
-//! * [`params`]: the parameter buffer every pass reads, and the coordinate conventions.
+//! * [`params`]: the parameter record every pass reads, and the coordinate conventions.
 //! * [`trace`]: G-buffer decoding, reflection rays, Hi-Z / linear / brute-force tracing.
 //! * [`resolve`]: HDRP fades, colour-pyramid sampling, SSR_APPROX and neighbourhood resolves.
 //! * [`hits`]: per-ray hit records the neighbourhood resolves read (computed once per ray).
@@ -15,8 +15,8 @@
 //! space) are listed in [`params`].
 //!
 //! ```
-//! use shader_core::ssr::{params::idx, trace::GBUF_STRIDE, resolve::OUT_STRIDE};
-//! assert_eq!((idx::LEN, GBUF_STRIDE, OUT_STRIDE), (112, 8, 4));
+//! use shader_core::ssr::{params::SsrParams, trace::GBUF_STRIDE, resolve::OUT_STRIDE};
+//! assert_eq!((core::mem::size_of::<SsrParams>(), GBUF_STRIDE, OUT_STRIDE), (448, 8, 4));
 //! ```
 
 pub mod hits;

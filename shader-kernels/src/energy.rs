@@ -2,57 +2,126 @@
 //! E_avg table and the white furnace, each a per-invocation function both backends call plus a
 //! `#[spirv(compute)]` entry point.
 //!
-//! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args[0]` = invocations,
-//! `args[1]` = groups in x; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`.
+//! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads and binds its launch record
+//! (`#[repr(C)]`, 4-byte fields, `bytemuck::Pod` on the host) at binding 0: the launch fields
+//! `invocations`, `groups_x` and `first` (filled by `runner::Backend::launch`), then the kernel's
+//! parameters. Local invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE` computes item
+//! `first + i` and writes `out[stride i..]`; the CPU launcher calls the same function. The entry
+//! points copy the record into the invocation once (fields read through the binding at every use
+//! are slow on lavapipe).
 
 use shader_core::ieee;
-use crate::invocation;
 use shader_core::energy::{self, FurnaceMaterial};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
-/// Words of the furnace `args` buffer.
-pub const FURNACE_ARGS: usize = 14;
 /// Furnace layout: a row of spheres, roughness 0..1 left to right, orthographic view along -z.
 pub const LAYOUT_SPHERES: u32 = 0;
 /// Furnace layout: the table grid, one invocation per (mu_i, r_j) cell center (n_mu x n_r).
 pub const LAYOUT_GRID: u32 = 1;
 /// Outputs per furnace invocation: albedo, mu (0 outside the spheres), roughness.
 pub const FURNACE_STRIDE: usize = 3;
+/// Outputs per E / E' table cell: the sums of E and E'.
+pub const TABLE_STRIDE: usize = 2;
 
-/// E / E' table chunk: `args` = [cells, groups_x, n_mu, n_r, start, count, seq, seed]; the f32
-/// sums (E, E') of samples [start, start + count) of cell i (written to out[2 i], out[2 i + 1]).
-#[inline]
-pub fn albedo_table_cell(i: u32, args: &[u32]) -> (f32, f32) {
-    let (n_mu, n_r) = (args[2], args[3]);
-    energy::albedo_cell_sums(i % n_mu, i / n_mu, n_mu, n_r, args[4], args[5], args[6], args[7])
+/// Launch record of [`energy_albedo_table`]: samples `[start, start + count)` of every cell of an
+/// `n_mu` x `n_r` table (sequence `seq`, scrambling seed `seed`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
+pub struct AlbedoTableArgs {
+    pub invocations: u32,
+    pub groups_x: u32,
+    pub first: u32,
+    pub n_mu: u32,
+    pub n_r: u32,
+    pub start: u32,
+    pub count: u32,
+    pub seq: u32,
+    pub seed: u32,
 }
 
-/// E_avg chunk: `args` = [n_avg, groups_x, n_avg, start, count, seq, seed]; the f32 sum of samples
-/// [start, start + count) of roughness cell j (written to out[j]).
-#[inline]
-pub fn albedo_avg_cell(j: u32, args: &[u32]) -> f32 {
-    energy::albedo_avg_sums(j, args[2], args[3], args[4], args[5], args[6])
+/// Launch record of [`energy_albedo_avg`]: samples `[start, start + count)` of every one of the
+/// `n_avg` roughness cells.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
+pub struct AlbedoAvgArgs {
+    pub invocations: u32,
+    pub groups_x: u32,
+    pub first: u32,
+    pub n_avg: u32,
+    pub start: u32,
+    pub count: u32,
+    pub seq: u32,
+    pub seed: u32,
 }
 
-/// White furnace, one pixel (or grid cell): `args` = [invocations, groups_x, layout, width,
-/// height, spheres (LAYOUT_SPHERES) or n_r (LAYOUT_GRID), samples, seq, seed, mode, metallic
-/// bits, base bits, min-roughness bits, 0]; returns (albedo, mu, roughness), written to
-/// out[3 i..]. Pixels outside the spheres see the environment: albedo 1, mu 0.
+/// Launch record of [`energy_furnace`]: `layout` ([`LAYOUT_SPHERES`]: `width` x `height` pixels
+/// of `rows` spheres; [`LAYOUT_GRID`]: `width` = n_mu by `rows` = n_r cell centres), `samples`
+/// per pixel (sequence `seq`, seed `seed`), the compensation `mode` (`shader_core::energy::COMP_*`)
+/// and the material.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
+pub struct FurnaceArgs {
+    pub invocations: u32,
+    pub groups_x: u32,
+    pub first: u32,
+    pub layout: u32,
+    pub width: u32,
+    pub height: u32,
+    pub rows: u32,
+    pub samples: u32,
+    pub seq: u32,
+    pub seed: u32,
+    pub mode: u32,
+    pub metallic: f32,
+    pub base: f32,
+    pub min_roughness: f32,
+}
+
+/// The E / E' table, invocation `i`: the f32 sums (E, E') of cell `first + i`'s samples, written
+/// to `out[2 i]`, `out[2 i + 1]`.
 #[inline]
-pub fn furnace_pixel(i: u32, args: &[u32], lut: &[f32]) -> (f32, f32, f32) {
-    let layout = args[2];
-    let width = args[3];
-    let (x, y) = (i % width, i / width);
-    let (mu, roughness) = if layout == LAYOUT_GRID {
-        (energy::table_mu(x, width), energy::cell_center(y, args[5]))
+pub fn albedo_table_cell(i: u32, a: &AlbedoTableArgs, out: &mut [f32]) {
+    let c = a.first + i;
+    let (e, ep) = energy::albedo_cell_sums(c % a.n_mu, c / a.n_mu, a.n_mu, a.n_r, a.start, a.count, a.seq, a.seed);
+    let o = (i as usize) * TABLE_STRIDE;
+    out[o] = e;
+    out[o + 1] = ep;
+}
+
+/// E_avg, invocation `i`: the f32 sum of roughness cell `first + i`'s samples, written to `out[i]`.
+#[inline]
+pub fn albedo_avg_cell(i: u32, a: &AlbedoAvgArgs, out: &mut [f32]) {
+    out[i as usize] = energy::albedo_avg_sums(a.first + i, a.n_avg, a.start, a.count, a.seq, a.seed);
+}
+
+/// White furnace, invocation `i`: pixel (or grid cell) `first + i`'s (albedo, mu, roughness),
+/// written to `out[3 i..]`. Pixels outside the spheres see the environment: albedo 1, mu 0.
+#[inline]
+pub fn furnace_pixel(i: u32, a: &FurnaceArgs, lut: &[f32], out: &mut [f32]) {
+    let (albedo, mu, roughness) = furnace_sample(a.first + i, a, lut);
+    let o = (i as usize) * FURNACE_STRIDE;
+    out[o] = albedo;
+    out[o + 1] = mu;
+    out[o + 2] = roughness;
+}
+
+/// (albedo, mu, roughness) of furnace pixel (or grid cell) `p`.
+#[inline]
+fn furnace_sample(p: u32, a: &FurnaceArgs, lut: &[f32]) -> (f32, f32, f32) {
+    let (x, y) = (p % a.width, p / a.width);
+    let (mu, roughness) = if a.layout == LAYOUT_GRID {
+        (energy::table_mu(x, a.width), energy::cell_center(y, a.rows))
     } else {
-        let spheres = args[5];
-        let cell = width / spheres;
+        let spheres = a.rows;
+        let cell = a.width / spheres;
         let k = x / cell;
         let r = if spheres > 1 { ieee::div(k as f32, (spheres - 1) as f32) } else { 0.0 };
         let px = ieee::div(2.0 * ((x - k * cell) as f32 + 0.5), cell as f32) - 1.0;
-        let py = 1.0 - ieee::div(2.0 * (y as f32 + 0.5), args[4] as f32);
+        let py = 1.0 - ieee::div(2.0 * (y as f32 + 0.5), a.height as f32);
         let rr = px * px + py * py;
         if !(rr < 1.0) || k >= spheres {
             return (1.0, 0.0, r);
@@ -60,53 +129,43 @@ pub fn furnace_pixel(i: u32, args: &[u32], lut: &[f32]) -> (f32, f32, f32) {
         let mu = ieee::sqrt(1.0 - rr);
         (if mu < energy::MU_MIN { energy::MU_MIN } else { mu }, r)
     };
-    let m = FurnaceMaterial {
-        base: f32::from_bits(args[11]),
-        metallic: f32::from_bits(args[10]),
-        roughness,
-        mode: args[9],
-        min_roughness: f32::from_bits(args[12]),
-    };
-    (energy::furnace_albedo(lut, &m, mu, args[6], args[7], args[8], i), mu, roughness)
+    let m = FurnaceMaterial { base: a.base, metallic: a.metallic, roughness, mode: a.mode, min_roughness: a.min_roughness };
+    (energy::furnace_albedo(lut, &m, mu, a.samples, a.seq, a.seed, p), mu, roughness)
 }
-
 
 /// Entry point of [`albedo_table_cell`].
 #[spirv(compute(threads(64)))]
 pub fn energy_albedo_table(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &AlbedoTableArgs,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
-    let (e, ep) = albedo_table_cell(i, args);
-    out[(2 * i) as usize] = e;
-    out[(2 * i + 1) as usize] = ep;
+    let a = *args;
+    let Some(i) = crate::invocation_index(id, a.invocations, a.groups_x) else { return };
+    albedo_table_cell(i, &a, out);
 }
 
 /// Entry point of [`albedo_avg_cell`].
 #[spirv(compute(threads(64)))]
 pub fn energy_albedo_avg(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &AlbedoAvgArgs,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] out: &mut [f32],
 ) {
-    let Some(j) = invocation(id, args) else { return };
-    out[j as usize] = albedo_avg_cell(j, args);
+    let a = *args;
+    let Some(i) = crate::invocation_index(id, a.invocations, a.groups_x) else { return };
+    albedo_avg_cell(i, &a, out);
 }
 
 /// Entry point of [`furnace_pixel`]; `lut` is the LUT buffer of `shader_core::energy`.
 #[spirv(compute(threads(64)))]
 pub fn energy_furnace(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &FurnaceArgs,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] lut: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
-    let (a, mu, r) = furnace_pixel(i, args, lut);
-    let o = (i as usize) * FURNACE_STRIDE;
-    out[o] = a;
-    out[o + 1] = mu;
-    out[o + 2] = r;
+    let a = *args;
+    let Some(i) = crate::invocation_index(id, a.invocations, a.groups_x) else { return };
+    furnace_pixel(i, &a, lut, out);
 }

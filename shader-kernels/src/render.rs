@@ -65,8 +65,9 @@ pub fn pt_render(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] lut: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] out: &mut [f32],
 ) {
-    if let Some(i) = crate::invocation_index(id, args.invocations, args.groups_x) {
-        pixel(i, args, scene, env, lut, out);
+    let a = *args;
+    if let Some(i) = crate::invocation_index(id, a.invocations, a.groups_x) {
+        pixel(i, &a, scene, env, lut, out);
     }
 }
 
@@ -174,7 +175,8 @@ pub fn pt_gbuffer(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] lut: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] out: &mut [f32],
 ) {
-    if let Some(i) = crate::invocation_index(id, args.invocations, args.groups_x) {
-        gbuffer_pixel(i, args, scene, env, lut, out);
+    let a = *args;
+    if let Some(i) = crate::invocation_index(id, a.invocations, a.groups_x) {
+        gbuffer_pixel(i, &a, scene, env, lut, out);
     }
 }

@@ -4,7 +4,9 @@
 //!
 //! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` = [invocations,
 //! groups in x, pass-specific...]; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
-//! `consts` is the [`shader_core::ssr::params`] buffer.
+//! `consts` is the [`SsrParams`] record (`shader_core::ssr::params`), bound as it is and copied
+//! into the invocation once (reading its fields through the binding at every use made the passes
+//! 2-5x slower on lavapipe).
 
 use crate::invocation;
 use shader_core::ssr::params::{mip_size, SsrParams};
@@ -23,11 +25,11 @@ use spirv_std::spirv;
 pub fn ssr_hiz_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     let level = args[2];
     let w = mip_size(p.width, level);
     let (x, y) = (i % w, i / w);
@@ -40,11 +42,11 @@ pub fn ssr_hiz_downsample(
 pub fn ssr_color_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     let level = args[2];
     let w = mip_size(p.width, level);
     let (x, y) = (i % w, i / w);
@@ -60,13 +62,13 @@ pub fn ssr_color_downsample(
 pub fn ssr_hdrp_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     let (x, y) = (i % p.width, i / p.width);
     trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, rays, (i as usize) * RAY_STRIDE);
 }
@@ -77,23 +79,41 @@ pub fn ssr_hdrp_trace(
 pub fn ssr_ray_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     hits::hit_record_slot(&p, gbuf, rays, i, hits, (i as usize) * HIT_STRIDE);
 }
 
-/// HDRP reprojection, `SSR_APPROX` (`args[2]` = 0; `hits` unread) or the neighbourhood resolve
-/// (`args[2]` = 1 + shape: 3x3 block or 5-tap cross).
+/// HDRP reprojection, `SSR_APPROX`: the pixel's own ray only.
 #[spirv(compute(threads(64)))]
 pub fn ssr_hdrp_reproject(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = *consts;
+    resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
+}
+
+/// HDRP's neighbourhood resolve (`args[2]` = shape: `resolve::NEIGHBORHOOD_3X3` or
+/// `NEIGHBORHOOD_CROSS5`) from the hit records of [`ssr_ray_hits`]. Its own entry point, apart
+/// from `SSR_APPROX`'s: on a device that predicates branches (llvmpipe) one kernel holding both
+/// would run both.
+#[spirv(compute(threads(64)))]
+pub fn ssr_hdrp_resolve(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -101,14 +121,8 @@ pub fn ssr_hdrp_reproject(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
-    let (x, y) = (i % p.width, i / p.width);
-    let ob = (i as usize) * OUT_STRIDE;
-    if args[2] == 0 {
-        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, out, ob);
-    } else {
-        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, args[2] - 1, x, y, out, ob);
-    }
+    let p = *consts;
+    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, args[2], i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
 }
 
 /// Stochastic SSR, tile classification: one invocation per 8x8 tile writes (class, rays,
@@ -117,12 +131,12 @@ pub fn ssr_hdrp_reproject(
 pub fn sssr_classify(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] tiles: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
     let (class, rays, eligible) = stochastic::classify_tile(&p, gbuf, i % tiles_x, i / tiles_x);
     let b = (i as usize) * stochastic::TILE_STRIDE;
@@ -133,58 +147,82 @@ pub fn sssr_classify(
 }
 
 /// Stochastic SSR, compaction step 2: each tile writes its rays (pixel, sample | mode << 8) into
-/// the list from its offset.
+/// the ray list from its offset and its eligible pixels into the pixel list from theirs.
 #[spirv(compute(threads(64)))]
+#[allow(clippy::too_many_arguments)]
 pub fn sssr_emit(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] offsets: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] ray_offsets: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixel_offsets: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] list: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
-    stochastic::emit_tile_rays(&p, gbuf, offsets, i % tiles_x, i / tiles_x, list);
+    stochastic::emit_tile(&p, gbuf, ray_offsets, pixel_offsets, i % tiles_x, i / tiles_x, list, pixels);
 }
 
-/// Stochastic SSR, tracing over the compacted list: entry k's record goes to its pixel's slot
-/// (pixel * samples + sample) of `rays` (zero-initialized: slots without a ray stay invalid).
+/// Stochastic SSR, tracing over the compacted ray list: entry k's record goes to its slot
+/// (`stochastic::list_slot`) of `rays` (zero-initialized: slots without a ray stay invalid).
 #[spirv(compute(threads(64)))]
 pub fn sssr_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
-    let pixel = list[(k as usize) * stochastic::LIST_STRIDE].to_bits();
-    let smp = list[(k as usize) * stochastic::LIST_STRIDE + 1].to_bits() & 0xff;
-    let ob = ((pixel * p.samples_per_pixel + smp) as usize) * RAY_STRIDE;
+    let p = *consts;
+    let ob = (stochastic::list_slot(&p, list, k) as usize) * RAY_STRIDE;
     stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, rays, ob);
 }
 
-/// Stochastic SSR, BRDF-weighted ratio-estimator resolve (one invocation per pixel; `hits` from
-/// [`ssr_ray_hits`]).
+/// Stochastic SSR, hit records over the compacted ray list (dispatched like [`sssr_trace`]):
+/// entry k's record goes to its slot of `hits` (zero-initialized: slots without a ray stay
+/// zero, as [`ssr_ray_hits`] writes them).
 #[spirv(compute(threads(64)))]
+pub fn sssr_hits(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
+) {
+    let Some(k) = invocation(id, args) else { return };
+    let p = *consts;
+    let slot = stochastic::list_slot(&p, list, k);
+    hits::hit_record_slot(&p, gbuf, rays, slot, hits, (slot as usize) * HIT_STRIDE);
+}
+
+/// Stochastic SSR, BRDF-weighted ratio-estimator resolve over the compacted list of eligible
+/// pixels (`out` zero-initialized: every other pixel reflects nothing); `hits` from
+/// [`sssr_hits`].
+#[spirv(compute(threads(64)))]
+#[allow(clippy::too_many_arguments)]
 pub fn sssr_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
-    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
+    let Some(k) = invocation(id, args) else { return };
+    let p = *consts;
+    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, x, y, out, (q as usize) * OUT_STRIDE);
 }
 
 /// Stochastic SSR, temporal accumulation (one invocation per pixel; history stride 5): hit-based
@@ -193,7 +231,7 @@ pub fn sssr_resolve(
 pub fn sssr_temporal(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] prev_gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hit_distance: &[f32],
@@ -202,23 +240,29 @@ pub fn sssr_temporal(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     stochastic::temporal_pixel(&p, gbuf, prev_gbuf, hit_distance, current, history, i % p.width, i / p.width, out, (i as usize) * stochastic::HISTORY_STRIDE);
 }
 
-/// Stochastic SSR, reflection hit distance per pixel (the temporal pass's virtual-image input).
+/// Stochastic SSR, reflection hit distance (the temporal pass's virtual-image input) over the
+/// list of eligible pixels (`out` zero-initialized: the other pixels traced no ray), from the
+/// hit records of [`sssr_hits`].
 #[spirv(compute(threads(64)))]
+#[allow(clippy::too_many_arguments)]
 pub fn sssr_hit_distance(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] pixels: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
-    out[i as usize] = stochastic::hit_distance_pixel(&p, gbuf, rays, i % p.width, i / p.width);
+    let Some(k) = invocation(id, args) else { return };
+    let p = *consts;
+    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+    out[q as usize] = stochastic::hit_distance_pixel(&p, gbuf, rays, hits, x, y);
 }
 
 /// Specular term: the reflection (4 values per pixel) times the preintegrated FG term looked up
@@ -228,7 +272,7 @@ pub fn sssr_hit_distance(
 pub fn ssr_specular(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] base_color: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] lut: &[f32],
@@ -236,15 +280,16 @@ pub fn ssr_specular(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = SsrParams::load(consts);
+    let p = *consts;
     specular::specular_pixel(&p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, out, (i as usize) * specular::SPECULAR_STRIDE);
 }
 
-/// Stochastic SSR, compaction step 1: the exclusive prefix sum of the tiles' ray
-/// counts by one workgroup of 64 lanes, in chunks of 64 tiles (Hillis-Steele scan in workgroup
+/// Stochastic SSR, compaction step 1: the exclusive prefix sum of one count column of the tiles
+/// (`args[3]`: `stochastic::TILE_RAYS` or `TILE_ELIGIBLE`) by one workgroup of 64 lanes, in chunks of 64 tiles (Hillis-Steele scan in workgroup
 /// memory, the running total carried between chunks), and the trace pass's dispatch record
-/// (`stochastic::dispatch_record`: ray count, then the indirect-dispatch groups). Integer sums:
-/// the same offsets as the CPU's sequential `prefix_sum_tiles`. `args[2]` = tile count.
+/// (`stochastic::dispatch_record`: ray count, then the indirect-dispatch groups) of the pass
+/// launched over that list. Integer sums: the same offsets as the CPU's sequential
+/// `prefix_sum_tiles`. `args[2]` = tile count.
 #[spirv(compute(threads(64)))]
 pub fn sssr_scan(
     #[spirv(local_invocation_index)] lane: u32,
@@ -255,12 +300,13 @@ pub fn sssr_scan(
     #[spirv(workgroup)] shared: &mut [u32; stochastic::SCAN_SHARED],
 ) {
     let n = args[2];
+    let column = args[3] as usize;
     let lanes = stochastic::SCAN_LANES;
     let mut carry: u32 = 0;
     let mut base: u32 = 0;
     while base < n {
         let t = base + lane;
-        let own = if t < n { tiles[(t as usize) * stochastic::TILE_STRIDE + 1].to_bits() } else { 0 };
+        let own = if t < n { tiles[(t as usize) * stochastic::TILE_STRIDE + column].to_bits() } else { 0 };
         shared[lane as usize] = own;
         workgroup_memory_barrier_with_group_sync();
         let mut src: usize = 0;

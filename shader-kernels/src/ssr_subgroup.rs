@@ -12,7 +12,7 @@ use spirv_std::spirv;
 /// subgroup * subgroup size + lane in subgroup, so the result does not depend on how the device
 /// maps local invocations to subgroups; it needs full subgroups, and where they are not full
 /// (subgroups x size != 64) the kernel writes `u32::MAX` as the ray count of the dispatch
-/// record and the host reports it. `args[2]` = tile count.
+/// record and the host reports it. `args[2]` = tile count, `args[3]` = the column scanned.
 #[spirv(compute(threads(64)))]
 #[allow(clippy::too_many_arguments)]
 pub fn sssr_scan_subgroup(
@@ -30,11 +30,12 @@ pub fn sssr_scan_subgroup(
     let full = n_sg * sg_size == lanes;
     let pos = sg * sg_size + sg_lane;
     let n = if full { args[2] } else { 0 };
+    let column = args[3] as usize;
     let mut carry: u32 = 0;
     let mut base: u32 = 0;
     while base < n {
         let t = base + pos;
-        let own = if t < n { tiles[(t as usize) * stochastic::TILE_STRIDE + 1].to_bits() } else { 0 };
+        let own = if t < n { tiles[(t as usize) * stochastic::TILE_STRIDE + column].to_bits() } else { 0 };
         let inclusive = subgroup_inclusive_i_add(own);
         if sg_lane == sg_size - 1 {
             totals[sg as usize] = inclusive;

@@ -12,7 +12,6 @@ use host::ssr::pipeline::{build_params, Runner};
 use host::ssr::{scene, GBuffer, SsrSettings};
 use host::Backend;
 use rayon::prelude::*;
-use shader_core::ssr::params::SsrParams;
 use shader_core::ssr::trace::{load_surface, reflect, screen_ray, trace_brute_force, trace_hiz, TraceHit, RAY_STRIDE};
 
 const W: usize = 1920;
@@ -62,7 +61,7 @@ fn hiz_matches_brute_force_at_1080p() {
     let s = SsrSettings::default();
     assert_eq!(s.hiz_max_iterations, 64, "the test is about HDRP's default limit");
     let consts = build_params(&g, &s).unwrap();
-    let p = SsrParams::load(&consts);
+    let p = consts;
     let pyr = Runner::new(&Backend::Cpu).depth_pyramid(&consts, &g.depth_layers()).unwrap();
     let gbuf = g.packed();
     // (all rays, rays towards the eye, rays away from it, mirror-floor pixels).

@@ -11,12 +11,12 @@ use host::render::gbuffer::{export_frame, orbit, FrameSpec, Quiet};
 use host::render::scene::Scene;
 use host::render::{CameraSpec, RenderInputs};
 use host::ssr::gltf_scenes::{GltfScene, NAMES};
-use host::ssr::pipeline::{build_params, set_u32, HdrpResolve, Runner};
+use host::ssr::pipeline::{build_params, HdrpResolve, Runner};
 use host::ssr::sssr::{sssr_params, SssrSettings};
 use host::ssr::{GBuffer, SsrSettings};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
-use shader_core::ssr::params::{idx, TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
+use shader_core::ssr::params::{TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
 use shader_core::ssr::resolve::HIT_STRIDE;
 use shader_core::ssr::trace::RAY_STRIDE;
 
@@ -78,8 +78,8 @@ fn ssr_passes_match_gpu_bit_for_bit_on_gltf_scenes() {
         assert_bits_equal(&format!("{name} colour pyramid"), 3, &cp, &q.color_pyramid(&consts, &g.color).unwrap());
         let mut hits = 0;
         for (mode, steps) in [(TRACE_HIZ, 0), (TRACE_LINEAR, 32), (TRACE_BRUTE_FORCE, 0)] {
-            set_u32(&mut consts, idx::TRACE_MODE, mode);
-            set_u32(&mut consts, idx::LINEAR_STEPS, steps.max(1));
+            consts.trace_mode = mode;
+            consts.linear_steps = steps.max(1);
             let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
             assert_bits_equal(&format!("{name} HDRP trace mode {mode}"), RAY_STRIDE, &rc, &q.hdrp_trace(&consts, &gbuf, &dp).unwrap());
             let hc = c.ray_hits(&consts, &gbuf, &rc).unwrap();

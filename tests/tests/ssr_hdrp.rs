@@ -4,10 +4,10 @@
 use crosscheck::{assert_bits_equal, gpu_backend};
 use host::ssr::cli::errors;
 use host::ssr::metrics::{composite, error, tonemap};
-use host::ssr::pipeline::{build_params, set_u32, Runner};
+use host::ssr::pipeline::{build_params, Runner};
 use host::ssr::{render_reference, run_hdrp, scene, GBuffer, HdrpResolve, SsrSettings, TraceMode};
 use host::Backend;
-use shader_core::ssr::params::{idx, FLAG_STOCHASTIC, TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
+use shader_core::ssr::params::{FLAG_STOCHASTIC, TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
 use shader_core::ssr::resolve::HIT_STRIDE;
 use shader_core::ssr::trace::{info, RAY_STRIDE};
 
@@ -40,10 +40,9 @@ fn hdrp_passes_match_gpu_bit_for_bit() {
             (TRACE_BRUTE_FORCE, 0, false),
             (TRACE_HIZ, 0, true),
         ] {
-            set_u32(&mut consts, idx::TRACE_MODE, mode);
-            set_u32(&mut consts, idx::LINEAR_STEPS, steps.max(1));
-            let flags = consts[idx::FLAGS].to_bits();
-            set_u32(&mut consts, idx::FLAGS, if stochastic { flags | FLAG_STOCHASTIC } else { flags & !FLAG_STOCHASTIC });
+            consts.trace_mode = mode;
+            consts.linear_steps = steps.max(1);
+            consts.flags = if stochastic { consts.flags | FLAG_STOCHASTIC } else { consts.flags & !FLAG_STOCHASTIC };
             let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
             let rg = q.hdrp_trace(&consts, &gbuf, &dp).unwrap();
             assert_bits_equal(&format!("{name} trace mode {mode} steps {steps} stochastic {stochastic}"), RAY_STRIDE, &rc, &rg);

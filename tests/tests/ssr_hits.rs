@@ -1,16 +1,16 @@
 //! The per-ray hit records (`shader_core::ssr::hits`) change where the resolves' per-ray work is
 //! done, not what it computes: both neighbourhood resolves are compared, to the bit, with the
-//! per-(pixel, ray) evaluation they replaced (written out below from the same shader-core
+//! per-(pixel, ray) evaluation they replaced, and the stochastic hit distance with its per-ray form (written out below from the same shader-core
 //! functions, so a hit record holding the wrong field, the wrong pixel's pdf or a stale value
 //! fails). CPU only: the CPU-vs-GPU comparison of the records and resolves is in ssr_sssr.rs,
 //! ssr_hdrp.rs and ssr_gltf.rs.
 
-use host::ssr::pipeline::{build_params, set_u32, HdrpResolve, Runner};
+use host::ssr::pipeline::{build_params, HdrpResolve, Runner};
 use host::ssr::sssr::{sssr_params, SssrSettings};
 use host::ssr::{scene, SsrSettings};
 use host::Backend;
 use shader_core::ieee;
-use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_STOCHASTIC};
+use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_STOCHASTIC};
 use shader_core::ssr::resolve::{
     edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit, sample_color,
     ssr_sample_weight, OUT_STRIDE,
@@ -30,6 +30,34 @@ fn finish(p: &SsrParams, rough: f32, acc: Vec3, acc_a: f32, acc_w: f32) -> [f32;
     let k = ieee::div(perceptual_roughness_fade(rough, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length), acc_w);
     let c = acc * k;
     [c.x, c.y, c.z, acc_a * k]
+}
+
+/// The reflection hit distance of pixel (x, y) with each ray's hit position and pdf evaluated
+/// here, as the hit-distance pass did before it read the hit records.
+fn hit_distance_per_ray(p: &SsrParams, gbuf: &[f32], rays: &[f32], x: u32, y: u32) -> f32 {
+    let s = load_surface(p, gbuf, x, y);
+    if !s.valid {
+        return 0.0;
+    }
+    let spp = p.samples_per_pixel;
+    let mirror = s.perceptual_roughness < MIRROR_ROUGHNESS;
+    let alpha = s.perceptual_roughness * s.perceptual_roughness;
+    let nv = s.n.dot(s.v);
+    let q = y * p.width + x;
+    let (mut acc_d, mut acc_w) = (0.0f32, 0.0f32);
+    for k in 0..spp {
+        let r = load_ray(rays, ((q * spp + k) as usize) * RAY_STRIDE);
+        if r.valid && r.hit {
+            let hp = hit_position(p, gbuf, r.hx, r.hy);
+            let d = hp - s.pos;
+            let len = ieee::sqrt(d.dot(d));
+            let l = if len > 0.0 { d / len } else { Vec3::ZERO };
+            let w = ray_weight(&s, alpha, nv, lambda_cos(nv, alpha), mirror, l, ray_pdf_at_hit(p, &s, hp, r.pdf));
+            acc_d += w * len;
+            acc_w += w;
+        }
+    }
+    if acc_w > 0.0 { ieee::div(acc_d, acc_w) } else { 0.0 }
 }
 
 /// The stochastic resolve of pixel (x, y) with every per-ray quantity evaluated per pair.
@@ -149,17 +177,26 @@ fn neighbourhood_resolves_equal_their_per_pair_form_to_the_bit() {
         let gbuf = g.packed();
         let tag = format!("{name} SSSR rpq {} spp {} reuse {} fis {}", t.rays_per_quad, t.samples_per_pixel, t.reuse, t.fis);
         let consts = sssr_params(&g, &SsrSettings { frame: 2, ..SsrSettings::default() }, &t).unwrap();
-        let p = SsrParams::load(&consts);
+        let p = consts;
         let mut c = Runner::new(&Backend::Cpu);
         let f = c.sssr_frame_passes(&consts, &gbuf, &g.depth_layers(), &g.color).unwrap();
         let lit = assert_same(&tag, &f.reflection, |x, y| sssr_pixel_per_pair(&p, &gbuf, &f.color_pyramid, &f.rays, x, y));
         assert!(lit > W * H / 10, "{tag}: only {lit} pixels reflect anything: the comparison would prove little");
+        // The hit distance (over the pixel list, from the hit records) against its per-ray form.
+        let hd = c.sssr_hit_distance(&consts, &gbuf, &f.rays, &f.hits, &f.pixels).unwrap();
+        let mut hit = 0;
+        for (i, d) in hd.iter().enumerate() {
+            let (x, y) = ((i % W) as u32, (i / W) as u32);
+            let want = hit_distance_per_ray(&p, &gbuf, &f.rays, x, y);
+            assert_eq!(d.to_bits(), want.to_bits(), "{tag}: hit distance at ({x}, {y}): {d} vs per-ray {want}");
+            hit += (want > 0.0) as usize;
+        }
+        assert!(hit > W * H / 20, "{tag}: only {hit} pixels have a hit distance");
 
         // HDRP's 3x3 resolve on GGX-sampled rays of the same G-buffer.
         let mut consts = build_params(&g, &SsrSettings::default()).unwrap();
-        let flags = consts[idx::FLAGS].to_bits() | FLAG_STOCHASTIC;
-        set_u32(&mut consts, idx::FLAGS, flags);
-        let p = SsrParams::load(&consts);
+        consts.flags |= FLAG_STOCHASTIC;
+        let p = consts;
         let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
         let rays = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();

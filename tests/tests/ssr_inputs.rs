@@ -56,7 +56,7 @@ fn gbuffer_roundtrips_through_exr_and_json() {
     let r = GBuffer::load(&p).unwrap();
     assert!(r.depth_far.is_none());
     let consts = host::ssr::pipeline::build_params(&r, &host::ssr::SsrSettings::default()).unwrap();
-    assert_eq!(consts[shader_core::ssr::params::idx::FAR_DEPTH_OFFSET].to_bits(), 0);
+    assert_eq!(consts.far_depth_offset, 0);
 }
 
 /// The analytic scenes' far depth: never nearer than the depth, +inf exactly on the sky, and

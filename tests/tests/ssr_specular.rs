@@ -11,7 +11,6 @@ use host::ssr::sssr::{run_sssr, sssr_params, SssrSettings};
 use host::ssr::{render_reference, scene, SsrSettings};
 use host::energy_ref::{albedo, Quadrature};
 use host::Backend;
-use shader_core::ssr::params::SsrParams;
 use shader_core::ssr::specular;
 use shader_core::ssr::trace::load_surface;
 
@@ -83,7 +82,7 @@ fn fg_term_matches_f64_quadrature_per_pixel() {
         let g = sc.render_gbuffer(W, H, 0);
         let s = SsrSettings::default();
         let consts = sssr_params(&g, &s, &SssrSettings::default()).unwrap();
-        let p = SsrParams::load(&consts);
+        let p = consts;
         let gbuf = g.packed();
         for i in (0..W * H).step_by(11) {
             let (x, y) = ((i % W) as u32, (i / W) as u32);

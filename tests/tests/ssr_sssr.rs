@@ -11,8 +11,8 @@ use host::ssr::pipeline::VndfSampler;
 use host::ssr::sssr::{expected_list, run_sssr, sssr_params, Reprojection, ScanKernel, SssrSettings};
 use host::ssr::{render_reference, scene, SsrSettings};
 use host::Backend;
-use shader_core::ssr::params::SsrParams;
-use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE_SKIP, TILE_STRIDE};
+use shader_core::ssr::resolve::HIT_STRIDE;
+use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE_ELIGIBLE, TILE_RAYS, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::{load_surface, RAY_STRIDE};
 use shader_core::vector::Vec3;
 
@@ -85,7 +85,7 @@ fn samplers_match_their_pdfs_and_bias_truncates() {
         for bias in [0.0f32, 0.5] {
             let s = SsrSettings { sampler, ..SsrSettings::default() };
             let t = SssrSettings { sample_bias: bias, ..SssrSettings::default() };
-            let p = SsrParams::load(&sssr_params(&g, &s, &t).unwrap());
+            let p = sssr_params(&g, &s, &t).unwrap();
             let (mut checked, mut sum_cos, mut n) = (0, 0.0f64, 0);
             let mut these = Vec::new();
             for y in 0..H as u32 {
@@ -233,18 +233,21 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
                 state ^= state >> 7;
                 state ^= state << 17;
                 let rays = if state % 5 == 0 { 0 } else { (state >> 40) as u32 % 257 };
-                [f32::from_bits(1), f32::from_bits(rays), f32::from_bits(rays), 0.0]
+                let eligible = if state % 7 == 0 { 0 } else { (state >> 20) as u32 % 65 };
+                [f32::from_bits(1), f32::from_bits(rays), f32::from_bits(eligible), 0.0]
             })
             .collect();
-        let (oc, rc) = Runner::new(&Backend::Cpu).sssr_scan(&tiles).unwrap();
-        for &kernel in &kernels {
-            let (og, rg) = Runner::new(gpu).sssr_scan_with(&tiles, kernel).unwrap();
-            assert_bits_equal(&format!("{kernel:?} scan of {n} tiles"), 1, &oc, &og);
-            assert_eq!(rc, rg, "{kernel:?} scan of {n} tiles: dispatch record");
+        for column in [TILE_RAYS, TILE_ELIGIBLE] {
+            let (oc, rc) = Runner::new(&Backend::Cpu).sssr_scan(&tiles, column).unwrap();
+            for &kernel in &kernels {
+                let (og, rg) = Runner::new(gpu).sssr_scan_with(&tiles, column, kernel).unwrap();
+                assert_bits_equal(&format!("{kernel:?} scan of {n} tiles, column {column}"), 1, &oc, &og);
+                assert_eq!(rc, rg, "{kernel:?} scan of {n} tiles, column {column}: dispatch record");
+            }
+            let total: u32 = tiles.chunks_exact(TILE_STRIDE).map(|t| t[column].to_bits()).sum();
+            assert_eq!(oc[n].to_bits(), total, "scan of {n} tiles, column {column}: total");
+            assert_eq!(rc[0], total, "dispatch record count");
         }
-        let total: u32 = tiles.chunks_exact(TILE_STRIDE).map(|t| t[1].to_bits()).sum();
-        assert_eq!(oc[n].to_bits(), total, "scan of {n} tiles: total");
-        assert_eq!(rc[0], total, "dispatch record count");
     }
     let d = SssrSettings::default();
     for (name, t) in [("floor", d.clone()), ("hallway", SssrSettings { samples_per_pixel: 4, rays_per_quad: 1, ..d.clone() })] {
@@ -261,9 +264,27 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
         assert_bits_equal(&format!("{name} chain colour pyramid"), 3, &c.color_pyramid, &q.color_pyramid);
         assert_bits_equal(&format!("{name} chain tiles"), TILE_STRIDE, &c.tiles, &q.tiles);
         assert_bits_equal(&format!("{name} chain offsets"), 1, &c.offsets, &q.offsets);
+        assert_bits_equal(&format!("{name} chain pixel offsets"), 1, &c.pixel_offsets, &q.pixel_offsets);
         assert_bits_equal(&format!("{name} chain list"), LIST_STRIDE, &c.list, &q.list);
+        assert_bits_equal(&format!("{name} chain pixel list"), 1, &c.pixels, &q.pixels);
         assert_bits_equal(&format!("{name} chain rays"), RAY_STRIDE, &c.rays, &q.rays);
+        assert_bits_equal(&format!("{name} chain hit records"), HIT_STRIDE, &c.hits, &q.hits);
         assert_bits_equal(&format!("{name} chain resolve"), 4, &c.reflection, &q.reflection);
+        // The pixel list is every eligible pixel, once, tile by tile; the resolve is launched
+        // over it alone, so a pixel outside it must reflect nothing.
+        let p = consts;
+        let eligible: Vec<u32> = (0..(W * H) as u32)
+            .filter(|&i| stochastic::eligible(&p, &load_surface(&p, &gbuf, i % W as u32, i / W as u32)))
+            .collect();
+        let mut listed: Vec<u32> = c.pixels.iter().map(|v| v.to_bits()).collect();
+        listed.sort_unstable();
+        assert_eq!(listed, eligible, "{name}: pixel list = the eligible pixels");
+        assert!(eligible.len() < W * H, "{name}: every pixel eligible: the list would prove nothing");
+        for (i, o) in c.reflection.chunks_exact(4).enumerate() {
+            if eligible.binary_search(&(i as u32)).is_err() {
+                assert!(o.iter().all(|v| v.to_bits() == 0), "{name}: pixel {i} is not eligible but reflects {o:?}");
+            }
+        }
         let names: Vec<&str> = qr.times.iter().map(|t| t.name.as_str()).collect();
         assert_eq!(names, ["depth pyramid", "color pyramid", "classify", "compact", "trace", "hits", "resolve"], "{name}: pass times");
     }

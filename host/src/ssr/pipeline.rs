@@ -8,7 +8,7 @@ use crate::timing::{Timing, TimingSource};
 use crate::Backend;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use shader_core::ssr::params::{self, idx, mip_size, SsrParams};
+use shader_core::ssr::params::{self, mip_size, SsrParams};
 use shader_core::ssr::hits;
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular::{self, SPECULAR_STRIDE};
@@ -55,11 +55,12 @@ impl HdrpResolve {
             HdrpResolve::Cross5 => "cross5",
         }
     }
-    fn arg(&self) -> u32 {
+    /// The neighbourhood shape (`resolve::NEIGHBORHOOD_*`) of the neighbourhood resolves.
+    fn shape(&self) -> Option<u32> {
         match self {
-            HdrpResolve::Approx => 0,
-            HdrpResolve::Block3x3 => 1 + resolve::NEIGHBORHOOD_3X3,
-            HdrpResolve::Cross5 => 1 + resolve::NEIGHBORHOOD_CROSS5,
+            HdrpResolve::Approx => None,
+            HdrpResolve::Block3x3 => Some(resolve::NEIGHBORHOOD_3X3),
+            HdrpResolve::Cross5 => Some(resolve::NEIGHBORHOOD_CROSS5),
         }
     }
 }
@@ -179,69 +180,56 @@ pub fn depth_pyramid_init(p: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
     }
 }
 
-/// The parameter buffer for `gb` and `s` (pipeline-specific values are set by the caller).
-pub fn build_params(gb: &GBuffer, s: &SsrSettings) -> Result<Vec<f32>> {
+/// The parameters for `gb` and `s` (pipeline-specific values are set by the caller).
+pub fn build_params(gb: &GBuffer, s: &SsrSettings) -> Result<SsrParams> {
     let (w, h) = (gb.width as u32, gb.height as u32);
-    let mut b = vec![0.0f32; idx::LEN];
-    let u = |v: u32| f32::from_bits(v);
-    b[idx::WIDTH] = u(w);
-    b[idx::HEIGHT] = u(h);
-    b[idx::NEAR] = gb.camera.near;
-    b[idx::THICKNESS_SCALE] = 1.0 / (1.0 + s.thickness);
-    b[idx::THICKNESS_BIAS] = 0.0;
-    b[idx::EDGE_FADE_RCP_LENGTH] = (1.0 / s.screen_fade).min(f32::MAX);
     // HDRP: roughnessFadeEnd = 1 - minSmoothness, roughnessFadeStart = 1 - smoothnessFadeStart.
     let fade_end = 1.0 - s.min_smoothness;
     let fade_start = 1.0 - s.smoothness_fade_start;
     let fade_len = fade_end - fade_start;
     let (rcp, end_rcp) = if fade_len != 0.0 { (1.0 / fade_len, fade_end * (1.0 / fade_len)) } else { (0.0, 1.0) };
-    b[idx::ROUGHNESS_FADE_RCP_LENGTH] = rcp;
-    b[idx::ROUGHNESS_FADE_END_TIMES_RCP_LENGTH] = end_rcp;
-    b[idx::ROUGHNESS_FADE_END] = fade_end;
-    b[idx::HIZ_MAX_ITERATIONS] = u(s.hiz_max_iterations);
     let levels = mip_levels(w, h);
-    b[idx::DEPTH_MAX_MIP] = u(s.hiz_max_mip.min(levels - 1));
-    b[idx::LINEAR_STEPS] = u(32);
-    b[idx::TRACE_MODE] = u(params::TRACE_HIZ);
-    b[idx::COLOR_MAX_MIP] = u(levels - 1);
-    b[idx::FRAME] = u(s.frame);
-    b[idx::FLAGS] = u(if s.backface_reject { params::FLAG_BACKFACE_REJECT } else { 0 });
-    b[idx::HIZ_ROUGHNESS_CUT] = 0.2;
-    b[idx::ROUGH_LINEAR_STEPS] = u(16);
-    b[idx::SAMPLES_PER_PIXEL] = u(1);
-    b[idx::RAYS_PER_QUAD] = u(4);
-    b[idx::SAMPLE_BIAS] = 0.0;
-    b[idx::RESOLVE_RADIUS] = u(1);
-    b[idx::TEMPORAL_ALPHA] = 0.1;
-    b[idx::MIP_COUNT] = u(levels);
-    b[idx::SAMPLER] = u(s.sampler.id());
-    b[idx::HISTORY_DEPTH_TOLERANCE] = 0.05;
-    b[idx::HISTORY_NORMAL_COS] = 0.9;
-    b[idx::HISTORY_ROUGHNESS_TOLERANCE] = 0.05;
-    b[idx::TEMPORAL_REPROJECTION] = u(params::REPROJECT_HIT);
     // The far-depth layer follows the pyramid's mips in the depth-pyramid buffer.
     let far = gb.depth_far.is_some() && s.far_depth;
-    b[idx::FAR_DEPTH_OFFSET] = u(if far { pyramid_texels(w, h) as u32 } else { 0 });
-    b[idx::MIN_THICKNESS_SCALE] = 1.0 / (1.0 + s.min_thickness);
-    let view = gb.camera.view();
-    let proj = gb.camera.proj(gb.width, gb.height);
-    let prev_proj = gb.previous_camera.proj(gb.width, gb.height);
-    let inv_view = gb.camera.inv_view()?;
-    let prev_inv_view = gb.previous_camera.inv_view()?;
-    for (base, m) in [
-        (idx::VIEW, view),
-        (idx::PROJ, proj),
-        (idx::INV_VIEW, inv_view),
-        (idx::PREV_PROJ, prev_proj),
-        (idx::PREV_INV_VIEW, prev_inv_view),
-    ] {
-        b[base..base + 16].copy_from_slice(&m.to_rows());
-    }
-    Ok(b)
-}
-
-pub fn set_u32(b: &mut [f32], i: usize, v: u32) {
-    b[i] = f32::from_bits(v);
+    Ok(SsrParams {
+        width: w,
+        height: h,
+        near: gb.camera.near,
+        thickness_scale: 1.0 / (1.0 + s.thickness),
+        thickness_bias: 0.0,
+        edge_fade_rcp_length: (1.0 / s.screen_fade).min(f32::MAX),
+        roughness_fade_rcp_length: rcp,
+        roughness_fade_end_times_rcp_length: end_rcp,
+        roughness_fade_end: fade_end,
+        hiz_max_iterations: s.hiz_max_iterations,
+        depth_max_mip: s.hiz_max_mip.min(levels - 1),
+        linear_steps: 32,
+        trace_mode: params::TRACE_HIZ,
+        color_max_mip: levels - 1,
+        frame: s.frame,
+        flags: if s.backface_reject { params::FLAG_BACKFACE_REJECT } else { 0 },
+        hiz_roughness_cut: 0.2,
+        rough_linear_steps: 16,
+        samples_per_pixel: 1,
+        rays_per_quad: 4,
+        sample_bias: 0.0,
+        resolve_radius: 1,
+        temporal_alpha: 0.1,
+        mip_count: levels,
+        sampler: s.sampler.id(),
+        history_depth_tolerance: 0.05,
+        history_normal_cos: 0.9,
+        temporal_reprojection: params::REPROJECT_HIT,
+        history_roughness_tolerance: 0.05,
+        far_depth_offset: if far { pyramid_texels(w, h) as u32 } else { 0 },
+        min_thickness_scale: 1.0 / (1.0 + s.min_thickness),
+        pad: 0,
+        view: gb.camera.view(),
+        proj: gb.camera.proj(gb.width, gb.height),
+        inv_view: gb.camera.inv_view()?,
+        prev_proj: gb.previous_camera.proj(gb.width, gb.height),
+        prev_inv_view: gb.previous_camera.inv_view()?,
+    })
 }
 
 /// One pass's time.
@@ -292,12 +280,13 @@ impl<'a> Runner<'a> {
         self.times.iter().map(|p| p.seconds).sum()
     }
 
-    /// Run `entry` over `count` invocations with `extra` args, read-only `inputs` and one output
-    /// buffer of `out_len` floats (initialized from `init` when given).
-    pub(crate) fn gpu_pass(&mut self, name: &str, entry: &str, count: u32, extra: &[u32], inputs: &[&[f32]], out_len: usize, init: Option<&[f32]>) -> Result<Vec<f32>> {
+    /// Run `entry` over `count` invocations with `extra` args, the parameters `consts`, read-only
+    /// `inputs` and one output buffer of `out_len` floats (initialized from `init` when given).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn gpu_pass(&mut self, name: &str, entry: &str, count: u32, extra: &[u32], consts: &SsrParams, inputs: &[&[f32]], out_len: usize, init: Option<&[f32]>) -> Result<Vec<f32>> {
         let Backend::Gpu(g) = self.backend else { unreachable!() };
         let (args, (gx, gy)) = pass_args(count, extra);
-        let mut ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args)];
+        let mut ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args), bytemuck::bytes_of(consts)];
         ins.extend(inputs.iter().map(|v| bytes(v)));
         let spec = OutputSpec { size: out_len * 4, init: init.map(bytes) };
         let (res, t) = g.dispatch(entry, &ins, &[spec], (gx, gy, 1)).with_context(|| format!("GPU pass {name}"))?;
@@ -315,8 +304,8 @@ impl<'a> Runner<'a> {
     /// The min-linear-depth pyramid of `depth` (level 0 = depth), all levels packed, followed by
     /// the far-depth layer where the parameters have one (`depth` is then
     /// [`GBuffer::depth_layers`]: the depth, then the far depth).
-    pub fn depth_pyramid(&mut self, consts: &[f32], depth: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    pub fn depth_pyramid(&mut self, consts: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let mut pyr = depth_pyramid_init(&p, depth)?;
         let total = pyr.len();
         for level in 1..p.mip_count {
@@ -334,7 +323,7 @@ impl<'a> Runner<'a> {
                     });
                 }
                 Backend::Gpu(_) => {
-                    pyr = self.gpu_pass("depth pyramid", "ssr::ssr_hiz_downsample", n as u32, &[level], &[consts], total, Some(&pyr))?;
+                    pyr = self.gpu_pass("depth pyramid", "ssr::ssr_hiz_downsample", n as u32, &[level], consts, &[], total, Some(&pyr))?;
                 }
             }
         }
@@ -342,8 +331,8 @@ impl<'a> Runner<'a> {
     }
 
     /// The colour pyramid (RGB, 2x2 box filter per level).
-    pub fn color_pyramid(&mut self, consts: &[f32], color: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    pub fn color_pyramid(&mut self, consts: &SsrParams, color: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let total = pyramid_texels(p.width, p.height) * COLOR_STRIDE;
         let mut pyr = vec![0.0f32; total];
         pyr[..color.len()].copy_from_slice(color);
@@ -363,7 +352,7 @@ impl<'a> Runner<'a> {
                     });
                 }
                 Backend::Gpu(_) => {
-                    pyr = self.gpu_pass("color pyramid", "ssr::ssr_color_downsample", n as u32, &[level], &[consts], total, Some(&pyr))?;
+                    pyr = self.gpu_pass("color pyramid", "ssr::ssr_color_downsample", n as u32, &[level], consts, &[], total, Some(&pyr))?;
                 }
             }
         }
@@ -371,8 +360,8 @@ impl<'a> Runner<'a> {
     }
 
     /// HDRP tracing pass: a ray record per pixel.
-    pub fn hdrp_trace(&mut self, consts: &[f32], gbuf: &[f32], depth_pyr: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    pub fn hdrp_trace(&mut self, consts: &SsrParams, gbuf: &[f32], depth_pyr: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let n = (p.width * p.height) as usize;
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("trace", || {
@@ -383,15 +372,15 @@ impl<'a> Runner<'a> {
                 });
                 out
             })),
-            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", n as u32, &[], &[consts, gbuf, depth_pyr], n * RAY_STRIDE, None),
+            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", n as u32, &[], consts, &[gbuf, depth_pyr], n * RAY_STRIDE, None),
         }
     }
 
     /// Hit records of every ray slot (`HIT_STRIDE` floats per slot, pixels x samples per pixel,
     /// in the ray records' order; `shader_core::ssr::hits`): what the neighbourhood resolves
     /// need of each hitting ray, computed once per ray.
-    pub fn ray_hits(&mut self, consts: &[f32], gbuf: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    pub fn ray_hits(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let slots = (p.width * p.height * p.samples_per_pixel) as usize;
         anyhow::ensure!(rays.len() == slots * RAY_STRIDE, "ray records have {} values, expected {}", rays.len(), slots * RAY_STRIDE);
         match self.backend {
@@ -400,35 +389,42 @@ impl<'a> Runner<'a> {
                 out.par_chunks_mut(HIT_STRIDE).enumerate().for_each(|(i, o)| hits::hit_record_slot(&p, gbuf, rays, i as u32, o, 0));
                 out
             })),
-            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_ray_hits", slots as u32, &[], &[consts, gbuf, rays], slots * HIT_STRIDE, None),
+            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_ray_hits", slots as u32, &[], consts, &[gbuf, rays], slots * HIT_STRIDE, None),
         }
     }
 
-    /// HDRP reprojection / resolve pass: (rgb premultiplied, opacity) per pixel. The
-    /// neighbourhood resolves first run [`Runner::ray_hits`] (its own pass, "hits").
-    pub fn hdrp_reproject(&mut self, consts: &[f32], gbuf: &[f32], color_pyr: &[f32], rays: &[f32], mode: HdrpResolve) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    /// HDRP reprojection / resolve pass: (rgb premultiplied, opacity) per pixel. `SSR_APPROX`
+    /// reads each pixel's own ray (`ssr_hdrp_reproject`); the neighbourhood resolves
+    /// (`ssr_hdrp_resolve`) first run [`Runner::ray_hits`] (its own pass, "hits").
+    pub fn hdrp_reproject(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], mode: HdrpResolve) -> Result<Vec<f32>> {
+        let p = *consts;
         let n = (p.width * p.height) as usize;
-        let arg = mode.arg();
-        // SSR_APPROX reads its pixel's own ray only; its kernel leaves the hit records unread.
-        let hits = if arg == 0 { vec![0.0f32; HIT_STRIDE] } else { self.ray_hits(consts, gbuf, rays)? };
+        let Some(shape) = mode.shape() else {
+            return match self.backend {
+                Backend::Cpu => Ok(self.cpu_timed("resolve", || {
+                    let mut out = vec![0.0f32; n * OUT_STRIDE];
+                    out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
+                        let i = i as u32;
+                        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, o, 0);
+                    });
+                    out
+                })),
+                Backend::Gpu(_) => self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[], consts, &[gbuf, color_pyr, rays], n * OUT_STRIDE, None),
+            };
+        };
+        let hits = self.ray_hits(consts, gbuf, rays)?;
         let hits = &hits[..];
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
                 let mut out = vec![0.0f32; n * OUT_STRIDE];
                 out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
                     let i = i as u32;
-                    let (x, y) = (i % p.width, i / p.width);
-                    if arg == 0 {
-                        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, o, 0);
-                    } else {
-                        resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, arg - 1, x, y, o, 0);
-                    }
+                    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, shape, i % p.width, i / p.width, o, 0);
                 });
                 out
             })),
             Backend::Gpu(_) => {
-                self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[arg], &[consts, gbuf, color_pyr, rays, hits], n * OUT_STRIDE, None)
+                self.gpu_pass("resolve", "ssr::ssr_hdrp_resolve", n as u32, &[shape], consts, &[gbuf, color_pyr, rays, hits], n * OUT_STRIDE, None)
             }
         }
     }
@@ -436,8 +432,8 @@ impl<'a> Runner<'a> {
     /// The specular term: `reflection` (4 values per pixel, premultiplied) times the
     /// preintegrated FG term from the energy tables `lut` (`crate::energy::Tables::lut_buffer`),
     /// f0 = mix(0.04, base colour, metalness). 4 values per pixel (RGB, opacity).
-    pub fn specular(&mut self, consts: &[f32], gbuf: &[f32], base_color: &[f32], lut: &[f32], reflection: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    pub fn specular(&mut self, consts: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], reflection: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let n = (p.width * p.height) as usize;
         anyhow::ensure!(base_color.len() == 3 * n, "base colour has {} values, expected {}", base_color.len(), 3 * n);
         anyhow::ensure!(reflection.len() == 4 * n, "reflection has {} values, expected {}", reflection.len(), 4 * n);
@@ -455,7 +451,7 @@ impl<'a> Runner<'a> {
                 "ssr::ssr_specular",
                 n as u32,
                 &[],
-                &[consts, gbuf, base_color, lut, reflection],
+                consts, &[gbuf, base_color, lut, reflection],
                 n * SPECULAR_STRIDE,
                 None,
             ),
@@ -485,17 +481,16 @@ pub struct SsrResult {
 pub fn run_hdrp(backend: &Backend, gb: &GBuffer, s: &SsrSettings, trace_mode: TraceMode, resolve_mode: HdrpResolve) -> Result<SsrResult> {
     let mut consts = build_params(gb, s)?;
     match trace_mode {
-        TraceMode::HiZ => set_u32(&mut consts, idx::TRACE_MODE, params::TRACE_HIZ),
+        TraceMode::HiZ => consts.trace_mode = params::TRACE_HIZ,
         TraceMode::Linear(n) => {
-            set_u32(&mut consts, idx::TRACE_MODE, params::TRACE_LINEAR);
-            set_u32(&mut consts, idx::LINEAR_STEPS, n);
+            consts.trace_mode = params::TRACE_LINEAR;
+            consts.linear_steps = n;
         }
-        TraceMode::BruteForce => set_u32(&mut consts, idx::TRACE_MODE, params::TRACE_BRUTE_FORCE),
+        TraceMode::BruteForce => consts.trace_mode = params::TRACE_BRUTE_FORCE,
     }
     if resolve_mode != HdrpResolve::Approx {
         // HDRP's non-approximate mode traces GGX-sampled rays (one per pixel).
-        let flags = consts[idx::FLAGS].to_bits() | params::FLAG_STOCHASTIC;
-        set_u32(&mut consts, idx::FLAGS, flags);
+        consts.flags |= params::FLAG_STOCHASTIC;
     }
     let gbuf = gb.packed();
     let mut r = Runner::new(backend);

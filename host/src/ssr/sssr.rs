@@ -1,15 +1,17 @@
 //! Stochastic screen-space reflections (Stachowiak 2015) on the host: the pass sequence
-//! classify -> prefix sum -> emit -> trace (over the compacted list) -> resolve -> temporal,
+//! classify -> prefix sums -> emit (ray and pixel lists) -> trace and hit records (over the ray
+//! list) -> resolve (over the pixel list) -> temporal,
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, depth_pyramid_init, pass_args, pyramid_texels, set_u32, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, depth_pyramid_init, pass_args, pyramid_texels, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
-use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass};
+use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use shader_core::ssr::params::{idx, SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
+use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
+use shader_core::ssr::hits;
 use shader_core::ssr::params::mip_size;
 use shader_core::ssr::resolve::{COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
@@ -89,8 +91,8 @@ pub struct TileStats {
     pub classes: Vec<u32>,
 }
 
-/// The parameter buffer of a stochastic run.
-pub fn sssr_params(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Vec<f32>> {
+/// The parameters of a stochastic run.
+pub fn sssr_params(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<SsrParams> {
     let mut c = build_params(gb, s)?;
     if !matches!(t.rays_per_quad, 1 | 2 | 4) {
         anyhow::bail!("rays per quad must be 1, 2 or 4 (got {})", t.rays_per_quad);
@@ -98,44 +100,39 @@ pub fn sssr_params(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Ve
     if !(1..=8).contains(&t.samples_per_pixel) {
         anyhow::bail!("samples per pixel must be in 1..=8 (got {})", t.samples_per_pixel);
     }
-    set_u32(&mut c, idx::RAYS_PER_QUAD, t.rays_per_quad);
-    set_u32(&mut c, idx::SAMPLES_PER_PIXEL, t.samples_per_pixel);
-    set_u32(&mut c, idx::RESOLVE_RADIUS, t.resolve_radius);
-    set_u32(&mut c, idx::ROUGH_LINEAR_STEPS, t.rough_linear_steps);
-    c[idx::SAMPLE_BIAS] = t.sample_bias;
-    c[idx::HIZ_ROUGHNESS_CUT] = t.hiz_roughness_cut;
-    c[idx::TEMPORAL_ALPHA] = t.temporal_alpha;
-    set_u32(
-        &mut c,
-        idx::TEMPORAL_REPROJECTION,
-        match t.reprojection {
-            Reprojection::Hit => REPROJECT_HIT,
-            Reprojection::Surface => REPROJECT_SURFACE,
-        },
-    );
+    c.rays_per_quad = t.rays_per_quad;
+    c.samples_per_pixel = t.samples_per_pixel;
+    c.resolve_radius = t.resolve_radius;
+    c.rough_linear_steps = t.rough_linear_steps;
+    c.sample_bias = t.sample_bias;
+    c.hiz_roughness_cut = t.hiz_roughness_cut;
+    c.temporal_alpha = t.temporal_alpha;
+    c.temporal_reprojection = match t.reprojection {
+        Reprojection::Hit => REPROJECT_HIT,
+        Reprojection::Surface => REPROJECT_SURFACE,
+    };
     if !t.history_rejection {
-        c[idx::HISTORY_DEPTH_TOLERANCE] = 0.0;
-        c[idx::HISTORY_NORMAL_COS] = -1.0;
-        c[idx::HISTORY_ROUGHNESS_TOLERANCE] = -1.0;
+        c.history_depth_tolerance = 0.0;
+        c.history_normal_cos = -1.0;
+        c.history_roughness_tolerance = -1.0;
     }
-    let mut flags = c[idx::FLAGS].to_bits() | FLAG_STOCHASTIC;
+    c.flags |= FLAG_STOCHASTIC;
     if t.reuse {
-        flags |= FLAG_REUSE;
+        c.flags |= FLAG_REUSE;
     }
     if t.fis {
-        flags |= FLAG_FIS;
+        c.flags |= FLAG_FIS;
     }
     if t.sampled_pdf {
-        flags |= FLAG_SAMPLED_PDF;
+        c.flags |= FLAG_SAMPLED_PDF;
     }
-    set_u32(&mut c, idx::FLAGS, flags);
     Ok(c)
 }
 
 impl Runner<'_> {
     /// Tile classification: `TILE_STRIDE` words per tile.
-    pub fn sssr_classify(&mut self, consts: &[f32], gbuf: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    pub fn sssr_classify(&mut self, consts: &SsrParams, gbuf: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
         let n = (tx * ty) as usize;
         match self.backend {
@@ -148,35 +145,37 @@ impl Runner<'_> {
                 });
                 out
             })),
-            Backend::Gpu(_) => self.gpu_pass("classify", "ssr::sssr_classify", n as u32, &[], &[consts, gbuf], n * TILE_STRIDE, None),
+            Backend::Gpu(_) => self.gpu_pass("classify", "ssr::sssr_classify", n as u32, &[], consts, &[gbuf], n * TILE_STRIDE, None),
         }
     }
 
-    /// Prefix sum of the tiles' ray counts (n + 1 words, the last the total): sequential on the
-    /// CPU, the parallel `sssr_scan` on the GPU.
-    pub fn sssr_prefix(&mut self, tiles: &[f32]) -> Result<Vec<f32>> {
-        Ok(self.sssr_scan(tiles)?.0)
+    /// Prefix sum of one count column of the tiles (`stochastic::TILE_RAYS` or
+    /// `TILE_ELIGIBLE`; n + 1 words, the last the total): sequential on the CPU, the parallel
+    /// `sssr_scan` on the GPU.
+    pub fn sssr_prefix(&mut self, tiles: &[f32], column: usize) -> Result<Vec<f32>> {
+        Ok(self.sssr_scan(tiles, column)?.0)
     }
 
-    /// The parallel scan (`sssr_scan`: one workgroup, workgroup memory): tile offsets plus total
-    /// (n + 1 words) and the trace pass's dispatch record (`stochastic::DISPATCH_WORDS`). On the
-    /// CPU: the sequential prefix sum and the same record.
-    pub fn sssr_scan(&mut self, tiles: &[f32]) -> Result<(Vec<f32>, Vec<u32>)> {
-        self.sssr_scan_with(tiles, ScanKernel::Auto)
+    /// The parallel scan of column `column` (`sssr_scan`: one workgroup, workgroup memory): tile
+    /// offsets plus total (n + 1 words) and the dispatch record (`stochastic::DISPATCH_WORDS`) of
+    /// the pass launched over that list. On the CPU: the sequential prefix sum and the same record.
+    pub fn sssr_scan(&mut self, tiles: &[f32], column: usize) -> Result<(Vec<f32>, Vec<u32>)> {
+        self.sssr_scan_with(tiles, column, ScanKernel::Auto)
     }
 
     /// [`Runner::sssr_scan`] with a chosen GPU kernel (the CPU ignores the choice).
-    pub fn sssr_scan_with(&mut self, tiles: &[f32], kernel: ScanKernel) -> Result<(Vec<f32>, Vec<u32>)> {
+    pub fn sssr_scan_with(&mut self, tiles: &[f32], column: usize, kernel: ScanKernel) -> Result<(Vec<f32>, Vec<u32>)> {
+        anyhow::ensure!(column == stochastic::TILE_RAYS || column == stochastic::TILE_ELIGIBLE, "scan column {column} is not a count column");
         let n = tiles.len() / TILE_STRIDE;
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("compact", || {
                 let mut out = vec![0.0f32; n + 1];
-                stochastic::prefix_sum_tiles(tiles, n as u32, &mut out);
+                stochastic::prefix_sum_tiles(tiles, n as u32, column, &mut out);
                 let rec = stochastic::dispatch_record(out[n].to_bits(), shader_kernels::WORKGROUP_SIZE);
                 (out, rec.to_vec())
             })),
             Backend::Gpu(g) => {
-                let args = scan_pass_args(n);
+                let args = scan_pass_args(n, column);
                 let bufs = [
                     ChainBuffer::Input(bytemuck::cast_slice(&args)),
                     ChainBuffer::Input(bytemuck::cast_slice(tiles)),
@@ -196,12 +195,14 @@ impl Runner<'_> {
     }
 
     /// One stochastic frame without the temporal pass: depth and colour pyramids,
-    /// classification, scan, list, tracing and resolve. On the GPU every pass runs in one command
-    /// buffer with no host round trip: the scan writes the trace pass's dispatch record and the
-    /// trace is dispatched indirectly from it (the list is allocated for every pixel's rays; only
-    /// the scan's total is used). On the CPU: the same passes one after the other.
-    pub fn sssr_frame_passes(&mut self, consts: &[f32], gbuf: &[f32], depth: &[f32], color: &[f32]) -> Result<FramePasses> {
-        let p = SsrParams::load(consts);
+    /// classification, the two scans (rays, eligible pixels), the two lists, tracing and hit
+    /// records over the ray list, and the resolve over the pixel list. On the GPU every pass runs
+    /// in one command buffer with no host round trip: each scan writes the dispatch record of the
+    /// passes launched over its list, which are dispatched indirectly from it (the lists are
+    /// allocated for every pixel; only the scans' totals are used). On the CPU: the same passes
+    /// one after the other, over the same lists.
+    pub fn sssr_frame_passes(&mut self, consts: &SsrParams, gbuf: &[f32], depth: &[f32], color: &[f32]) -> Result<FramePasses> {
+        let p = *consts;
         let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
         let n = (tx * ty) as usize;
         let pixels = (p.width * p.height) as usize;
@@ -215,39 +216,43 @@ impl Runner<'_> {
             let (gx, gy) = pass_args(count as u32, &[]).1;
             ChainDispatch::Direct(gx, gy, 1)
         };
-        // Argument records: per pyramid level, tiles, scan, pixels.
+        let indirect = |buffer: usize| ChainDispatch::Indirect { buffer, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 };
+        // Argument records: per pyramid level, tiles, the two scans.
         let levels: Vec<(u32, usize)> =
             (1..p.mip_count).map(|l| (l, (mip_size(p.width, l) * mip_size(p.height, l)) as usize)).collect();
         let level_args: Vec<Vec<u32>> = levels.iter().map(|&(l, cnt)| args_for(cnt, &[l])).collect();
         let tile_args = args_for(n, &[]);
-        let scan_args = scan_pass_args(n);
-        let pixel_args = args_for(pixels, &[]);
-        let slot_args = args_for(slots, &[]);
+        let ray_scan_args = scan_pass_args(n, stochastic::TILE_RAYS);
+        let pixel_scan_args = scan_pass_args(n, stochastic::TILE_ELIGIBLE);
         let total = pyramid_texels(p.width, p.height);
         let depth_init = depth_pyramid_init(&p, depth)?;
         let mut color_init = vec![0.0f32; total * COLOR_STRIDE];
         color_init[..color.len()].copy_from_slice(color);
-        let zeros = vec![0.0f32; slots * RAY_STRIDE];
+        // Output buffers start zeroed (wgpu's guarantee): ray slots, hit records and pixels the
+        // list passes do not reach stay zero, as the CPU path leaves them.
         let mut bufs = vec![
-            ChainBuffer::Input(bytemuck::cast_slice(consts)),
+            ChainBuffer::Input(bytemuck::bytes_of(consts)),
             ChainBuffer::Input(bytemuck::cast_slice(gbuf)),
             ChainBuffer::Input(bytemuck::cast_slice(&tile_args)),
-            ChainBuffer::Input(bytemuck::cast_slice(&scan_args)),
-            ChainBuffer::Input(bytemuck::cast_slice(&pixel_args)),
+            ChainBuffer::Input(bytemuck::cast_slice(&ray_scan_args)),
+            ChainBuffer::Input(bytemuck::cast_slice(&pixel_scan_args)),
             chain_out(depth_init.len() * 4, Some(bytemuck::cast_slice(&depth_init))),
             chain_out(total * COLOR_STRIDE * 4, Some(bytemuck::cast_slice(&color_init))),
             chain_out(n * TILE_STRIDE * 4, None),
             chain_out((n + 1) * 4, None),
             chain_out(stochastic::DISPATCH_WORDS * 4, None),
+            chain_out((n + 1) * 4, None),
+            chain_out(stochastic::DISPATCH_WORDS * 4, None),
             chain_out(slots.max(1) * LIST_STRIDE * 4, None),
-            chain_out(slots * RAY_STRIDE * 4, Some(bytemuck::cast_slice(&zeros))),
-            chain_out(pixels * OUT_STRIDE * 4, None),
-            ChainBuffer::Input(bytemuck::cast_slice(&slot_args)),
+            chain_out(pixels.max(1) * 4, None),
+            chain_out(slots * RAY_STRIDE * 4, None),
             chain_out(slots * HIT_STRIDE * 4, None),
+            chain_out(pixels * OUT_STRIDE * 4, None),
         ];
-        let (consts_b, gbuf_b, tile_b, scan_b, pixel_b) = (0, 1, 2, 3, 4);
-        let (depth_b, color_b, tiles_b, offsets_b, dispatch_b, list_b, rays_b, refl_b) = (5, 6, 7, 8, 9, 10, 11, 12);
-        let (slot_b, hits_b) = (13, 14);
+        let (consts_b, gbuf_b, tile_b, ray_scan_b, pixel_scan_b) = (0, 1, 2, 3, 4);
+        let (depth_b, color_b, tiles_b) = (5, 6, 7);
+        let (ray_offsets_b, ray_dispatch_b, pixel_offsets_b, pixel_dispatch_b) = (8, 9, 10, 11);
+        let (list_b, plist_b, rays_b, hits_b, refl_b) = (12, 13, 14, 15, 16);
         let first_level_arg = bufs.len();
         bufs.extend(level_args.iter().map(|a| ChainBuffer::Input(bytemuck::cast_slice(a))));
         let scan_entry = ScanKernel::Auto.entry(g)?;
@@ -263,151 +268,222 @@ impl Runner<'_> {
         }
         passes.push(ChainPass { entry: "ssr::sssr_classify", reads: vec![tile_b, consts_b, gbuf_b], writes: vec![tiles_b], dispatch: direct(n) });
         names.push("classify");
-        passes.push(ChainPass { entry: scan_entry, reads: vec![scan_b, tiles_b], writes: vec![offsets_b, dispatch_b], dispatch: ChainDispatch::Direct(1, 1, 1) });
-        names.push("compact");
-        passes.push(ChainPass { entry: "ssr::sssr_emit", reads: vec![tile_b, consts_b, gbuf_b, offsets_b], writes: vec![list_b], dispatch: direct(n) });
+        for (args_b, offsets_b, dispatch_b) in [(ray_scan_b, ray_offsets_b, ray_dispatch_b), (pixel_scan_b, pixel_offsets_b, pixel_dispatch_b)] {
+            passes.push(ChainPass { entry: scan_entry, reads: vec![args_b, tiles_b], writes: vec![offsets_b, dispatch_b], dispatch: ChainDispatch::Direct(1, 1, 1) });
+            names.push("compact");
+        }
+        passes.push(ChainPass {
+            entry: "ssr::sssr_emit",
+            reads: vec![tile_b, consts_b, gbuf_b, ray_offsets_b, pixel_offsets_b],
+            writes: vec![list_b, plist_b],
+            dispatch: direct(n),
+        });
         names.push("compact");
         passes.push(ChainPass {
             entry: "ssr::sssr_trace",
-            reads: vec![dispatch_b, consts_b, gbuf_b, depth_b, list_b],
+            reads: vec![ray_dispatch_b, consts_b, gbuf_b, depth_b, list_b],
             writes: vec![rays_b],
-            dispatch: ChainDispatch::Indirect { buffer: dispatch_b, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 },
+            dispatch: indirect(ray_dispatch_b),
         });
         names.push("trace");
-        passes.push(ChainPass { entry: "ssr::ssr_ray_hits", reads: vec![slot_b, consts_b, gbuf_b, rays_b], writes: vec![hits_b], dispatch: direct(slots) });
+        passes.push(ChainPass {
+            entry: "ssr::sssr_hits",
+            reads: vec![ray_dispatch_b, consts_b, gbuf_b, rays_b, list_b],
+            writes: vec![hits_b],
+            dispatch: indirect(ray_dispatch_b),
+        });
         names.push("hits");
         passes.push(ChainPass {
             entry: "ssr::sssr_resolve",
-            reads: vec![pixel_b, consts_b, gbuf_b, color_b, rays_b, hits_b],
+            reads: vec![pixel_dispatch_b, consts_b, gbuf_b, color_b, rays_b, hits_b, plist_b],
             writes: vec![refl_b],
-            dispatch: direct(pixels),
+            dispatch: indirect(pixel_dispatch_b),
         });
         names.push("resolve");
         let (mut res, times) = g.dispatch_chain(&bufs, &passes).context("GPU stochastic SSR frame")?;
         for (name, t) in names.iter().zip(times) {
             self.record(name, t);
         }
-        let rec: Vec<u32> = bytemuck::cast_slice(&res[dispatch_b].take().unwrap()).to_vec();
-        check_dispatch_record(&rec, scan_entry)?;
+        for b in [ray_dispatch_b, pixel_dispatch_b] {
+            let rec: Vec<u32> = bytemuck::cast_slice(&res[b].take().unwrap()).to_vec();
+            check_dispatch_record(&rec, scan_entry)?;
+        }
         let mut take = |i: usize| -> Vec<f32> { bytemuck::cast_slice(&res[i].take().unwrap()).to_vec() };
-        let offsets = take(offsets_b);
+        let offsets = take(ray_offsets_b);
+        let pixel_offsets = take(pixel_offsets_b);
         let count = offsets[n].to_bits() as usize;
+        let pixel_count = pixel_offsets[n].to_bits() as usize;
         let mut list = take(list_b);
         list.truncate(count * LIST_STRIDE);
+        let mut pixel_list = take(plist_b);
+        pixel_list.truncate(pixel_count);
         Ok(FramePasses {
             depth_pyramid: take(depth_b),
             color_pyramid: take(color_b),
             tiles: take(tiles_b),
             offsets,
+            pixel_offsets,
             list,
             count,
+            pixels: pixel_list,
             rays: take(rays_b),
+            hits: take(hits_b),
             reflection: take(refl_b),
         })
     }
 
     /// [`Runner::sssr_frame_passes`] with every pass submitted (and, on the GPU, read back) on its
     /// own: the CPU backend's path, and the GPU comparison point of `host ssr wall`.
-    pub fn sssr_frame_passes_separately(&mut self, consts: &[f32], gbuf: &[f32], depth: &[f32], color: &[f32]) -> Result<FramePasses> {
+    pub fn sssr_frame_passes_separately(&mut self, consts: &SsrParams, gbuf: &[f32], depth: &[f32], color: &[f32]) -> Result<FramePasses> {
         let depth_pyramid = self.depth_pyramid(consts, depth)?;
         let color_pyramid = self.color_pyramid(consts, color)?;
         let tiles = self.sssr_classify(consts, gbuf)?;
-        let offsets = self.sssr_prefix(&tiles)?;
-        let count = offsets[offsets.len() - 1].to_bits() as usize;
-        let list = self.sssr_emit(consts, gbuf, &offsets)?;
-        let rays = self.sssr_trace(consts, gbuf, &depth_pyramid, &list, count)?;
-        let reflection = self.sssr_resolve(consts, gbuf, &color_pyramid, &rays)?;
-        let list = list[..count * LIST_STRIDE].to_vec();
-        Ok(FramePasses { depth_pyramid, color_pyramid, tiles, offsets, list, count, rays, reflection })
+        let offsets = self.sssr_prefix(&tiles, stochastic::TILE_RAYS)?;
+        let pixel_offsets = self.sssr_prefix(&tiles, stochastic::TILE_ELIGIBLE)?;
+        let (list, pixels) = self.sssr_emit(consts, gbuf, &offsets, &pixel_offsets)?;
+        let rays = self.sssr_trace(consts, gbuf, &depth_pyramid, &list)?;
+        let hits = self.sssr_hits(consts, gbuf, &rays, &list)?;
+        let reflection = self.sssr_resolve(consts, gbuf, &color_pyramid, &rays, &hits, &pixels)?;
+        let count = list.len() / LIST_STRIDE;
+        Ok(FramePasses { depth_pyramid, color_pyramid, tiles, offsets, pixel_offsets, list, count, pixels, rays, hits, reflection })
     }
 
-    /// The compacted ray list (`LIST_STRIDE` words per ray).
-    pub fn sssr_emit(&mut self, consts: &[f32], gbuf: &[f32], offsets: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    /// The compacted ray list (`LIST_STRIDE` words per ray, `ray_offsets`' total entries) and
+    /// eligible-pixel list (one word per pixel, `pixel_offsets`' total), from the two scans.
+    pub fn sssr_emit(&mut self, consts: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets: &[f32]) -> Result<(Vec<f32>, Vec<f32>)> {
+        let p = *consts;
         let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
         let n = (tx * ty) as usize;
-        let total = offsets[n].to_bits() as usize;
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("compact", || {
-                let mut list = vec![0.0f32; total.max(1) * LIST_STRIDE];
+        anyhow::ensure!(ray_offsets.len() == n + 1 && pixel_offsets.len() == n + 1, "offsets have {} and {} words, expected {} ({n} tiles and the total)", ray_offsets.len(), pixel_offsets.len(), n + 1);
+        let rays = ray_offsets[n].to_bits() as usize;
+        let eligible = pixel_offsets[n].to_bits() as usize;
+        let (mut list, mut pixels) = match self.backend {
+            Backend::Cpu => self.cpu_timed("compact", || {
+                let mut list = vec![0.0f32; rays.max(1) * LIST_STRIDE];
+                let mut pixels = vec![0.0f32; eligible.max(1)];
                 for t in 0..n as u32 {
-                    stochastic::emit_tile_rays(&p, gbuf, offsets, t % tx, t / tx, &mut list);
+                    stochastic::emit_tile(&p, gbuf, ray_offsets, pixel_offsets, t % tx, t / tx, &mut list, &mut pixels);
                 }
-                list
-            })),
-            Backend::Gpu(_) => {
-                self.gpu_pass("compact", "ssr::sssr_emit", n as u32, &[], &[consts, gbuf, offsets], total.max(1) * LIST_STRIDE, None)
+                (list, pixels)
+            }),
+            Backend::Gpu(g) => {
+                let (args, (gx, gy)) = pass_args(n as u32, &[]);
+                let ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args), bytemuck::bytes_of(consts), bytemuck::cast_slice(gbuf), bytemuck::cast_slice(ray_offsets), bytemuck::cast_slice(pixel_offsets)];
+                let outs = [OutputSpec::zeroed(rays.max(1) * LIST_STRIDE * 4), OutputSpec::zeroed(eligible.max(1) * 4)];
+                let (res, t) = g.dispatch("ssr::sssr_emit", &ins, &outs, (gx, gy, 1)).context("GPU pass compact")?;
+                self.record("compact", t);
+                (bytemuck::cast_slice(&res[0]).to_vec(), bytemuck::cast_slice(&res[1]).to_vec())
             }
-        }
+        };
+        list.truncate(rays * LIST_STRIDE);
+        pixels.truncate(eligible);
+        Ok((list, pixels))
     }
 
-    /// Trace the list; records land at pixel * samples + sample.
-    pub fn sssr_trace(&mut self, consts: &[f32], gbuf: &[f32], depth_pyr: &[f32], list: &[f32], count: usize) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    /// Trace the ray list (`LIST_STRIDE` words per entry); records land at their slots (pixel *
+    /// samples + sample), the other slots are zero (no ray).
+    pub fn sssr_trace(&mut self, consts: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], list: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let slots = (p.width * p.height * p.samples_per_pixel) as usize;
+        let count = list.len() / LIST_STRIDE;
+        if count == 0 {
+            return Ok(vec![0.0; slots * RAY_STRIDE]);
+        }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("trace", || {
-                let recs: Vec<(usize, [f32; RAY_STRIDE])> = (0..count as u32)
-                    .into_par_iter()
-                    .map(|k| {
-                        let mut r = [0.0f32; RAY_STRIDE];
-                        stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, &mut r, 0);
-                        let pixel = list[k as usize * LIST_STRIDE].to_bits();
-                        let smp = list[k as usize * LIST_STRIDE + 1].to_bits() & 0xff;
-                        ((pixel * p.samples_per_pixel + smp) as usize, r)
-                    })
-                    .collect();
-                let mut rays = vec![0.0f32; slots * RAY_STRIDE];
-                for (slot, r) in recs {
-                    rays[slot * RAY_STRIDE..(slot + 1) * RAY_STRIDE].copy_from_slice(&r);
-                }
-                rays
+                scatter(&p, list, slots, RAY_STRIDE, |k, o| stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, o, 0))
             })),
-            Backend::Gpu(_) => {
-                let zeros = vec![0.0f32; slots * RAY_STRIDE];
-                if count == 0 {
-                    return Ok(zeros);
-                }
-                self.gpu_pass("trace", "ssr::sssr_trace", count as u32, &[], &[consts, gbuf, depth_pyr, list], slots * RAY_STRIDE, Some(&zeros))
-            }
+            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::sssr_trace", count as u32, &[], consts, &[gbuf, depth_pyr, list], slots * RAY_STRIDE, None),
         }
     }
 
-    /// The ratio-estimator resolve, after [`Runner::ray_hits`] (its own pass, "hits").
-    pub fn sssr_resolve(&mut self, consts: &[f32], gbuf: &[f32], color_pyr: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    /// Hit records of the rays of the list (`HIT_STRIDE` per slot, `shader_core::ssr::hits`),
+    /// computed once per ray for the resolve; slots without a ray are zero (as
+    /// [`Runner::ray_hits`] writes them).
+    pub fn sssr_hits(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32], list: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
+        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
+        anyhow::ensure!(rays.len() == slots * RAY_STRIDE, "ray records have {} values, expected {}", rays.len(), slots * RAY_STRIDE);
+        let count = list.len() / LIST_STRIDE;
+        if count == 0 {
+            return Ok(vec![0.0; slots * HIT_STRIDE]);
+        }
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed("hits", || {
+                scatter(&p, list, slots, HIT_STRIDE, |k, o| {
+                    hits::hit_record_slot(&p, gbuf, rays, stochastic::list_slot(&p, list, k), o, 0)
+                })
+            })),
+            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::sssr_hits", count as u32, &[], consts, &[gbuf, rays, list], slots * HIT_STRIDE, None),
+        }
+    }
+
+    /// The ratio-estimator resolve of the eligible pixels `pixels` (from [`Runner::sssr_emit`]),
+    /// with the hit records of [`Runner::sssr_hits`]; every other pixel is zero.
+    pub fn sssr_resolve(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], hits: &[f32], pixels: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let n = (p.width * p.height) as usize;
-        let hits = self.ray_hits(consts, gbuf, rays)?;
-        let hits = &hits[..];
+        let slots = n * p.samples_per_pixel as usize;
+        anyhow::ensure!(hits.len() == slots * HIT_STRIDE, "hit records have {} values, expected {}", hits.len(), slots * HIT_STRIDE);
+        if pixels.is_empty() {
+            return Ok(vec![0.0; n * OUT_STRIDE]);
+        }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
+                let recs: Vec<(usize, [f32; OUT_STRIDE])> = (0..pixels.len() as u32)
+                    .into_par_iter()
+                    .map(|k| {
+                        let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+                        let mut o = [0.0f32; OUT_STRIDE];
+                        stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, x, y, &mut o, 0);
+                        (q as usize, o)
+                    })
+                    .collect();
                 let mut out = vec![0.0f32; n * OUT_STRIDE];
-                out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
-                    let i = i as u32;
-                    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, i % p.width, i / p.width, o, 0);
-                });
+                for (q, o) in recs {
+                    out[q * OUT_STRIDE..(q + 1) * OUT_STRIDE].copy_from_slice(&o);
+                }
                 out
             })),
-            Backend::Gpu(_) => {
-                self.gpu_pass("resolve", "ssr::sssr_resolve", n as u32, &[], &[consts, gbuf, color_pyr, rays, hits], n * OUT_STRIDE, None)
-            }
+            Backend::Gpu(_) => self.gpu_pass(
+                "resolve",
+                "ssr::sssr_resolve",
+                pixels.len() as u32,
+                &[],
+                consts, &[gbuf, color_pyr, rays, hits, pixels],
+                n * OUT_STRIDE,
+                None,
+            ),
         }
     }
 
-    /// Reflection hit distance per pixel (0 where no own ray hit).
-    pub fn sssr_hit_distance(&mut self, consts: &[f32], gbuf: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    /// Reflection hit distance per pixel over the eligible pixels `pixels` (from
+    /// [`Runner::sssr_emit`]), from the hit records `hits` ([`Runner::sssr_hits`]); 0 where no own
+    /// ray hit and at every other pixel.
+    pub fn sssr_hit_distance(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32], hits: &[f32], pixels: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let n = (p.width * p.height) as usize;
+        let slots = n * p.samples_per_pixel as usize;
+        anyhow::ensure!(hits.len() == slots * HIT_STRIDE, "hit records have {} values, expected {}", hits.len(), slots * HIT_STRIDE);
+        if pixels.is_empty() {
+            return Ok(vec![0.0; n]);
+        }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("temporal", || {
+                let recs: Vec<(usize, f32)> = (0..pixels.len() as u32)
+                    .into_par_iter()
+                    .map(|k| {
+                        let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+                        (q as usize, stochastic::hit_distance_pixel(&p, gbuf, rays, hits, x, y))
+                    })
+                    .collect();
                 let mut out = vec![0.0f32; n];
-                out.par_iter_mut().enumerate().for_each(|(i, o)| {
-                    let i = i as u32;
-                    *o = stochastic::hit_distance_pixel(&p, gbuf, rays, i % p.width, i / p.width);
-                });
+                for (q, d) in recs {
+                    out[q] = d;
+                }
                 out
             })),
-            Backend::Gpu(_) => self.gpu_pass("temporal", "ssr::sssr_hit_distance", n as u32, &[], &[consts, gbuf, rays], n, None),
+            Backend::Gpu(_) => self.gpu_pass("temporal", "ssr::sssr_hit_distance", pixels.len() as u32, &[], consts, &[gbuf, rays, hits, pixels], n, None),
         }
     }
 
@@ -415,8 +491,8 @@ impl Runner<'_> {
     /// G-buffer of the frame the history belongs to, `hit_distance` this frame's
     /// [`Runner::sssr_hit_distance`].
     #[allow(clippy::too_many_arguments)]
-    pub fn sssr_temporal(&mut self, consts: &[f32], gbuf: &[f32], prev_gbuf: &[f32], hit_distance: &[f32], current: &[f32], history: &[f32]) -> Result<Vec<f32>> {
-        let p = SsrParams::load(consts);
+    pub fn sssr_temporal(&mut self, consts: &SsrParams, gbuf: &[f32], prev_gbuf: &[f32], hit_distance: &[f32], current: &[f32], history: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
         let n = (p.width * p.height) as usize;
         anyhow::ensure!(prev_gbuf.len() == gbuf.len(), "previous G-buffer has {} values, expected {}", prev_gbuf.len(), gbuf.len());
         match self.backend {
@@ -433,7 +509,7 @@ impl Runner<'_> {
                 "ssr::sssr_temporal",
                 n as u32,
                 &[],
-                &[consts, gbuf, prev_gbuf, hit_distance, current, history],
+                consts, &[gbuf, prev_gbuf, hit_distance, current, history],
                 n * HISTORY_STRIDE,
                 None,
             ),
@@ -474,9 +550,28 @@ fn check_dispatch_record(rec: &[u32], entry: &str) -> Result<()> {
     Ok(())
 }
 
-/// The scan's argument record: one workgroup ([1, 1]), then the tile count.
-fn scan_pass_args(tiles: usize) -> Vec<u32> {
-    pass_args(1, &[tiles as u32]).0
+/// The scan's argument record: one workgroup ([1, 1]), then the tile count and the column scanned.
+fn scan_pass_args(tiles: usize, column: usize) -> Vec<u32> {
+    pass_args(1, &[tiles as u32, column as u32]).0
+}
+
+/// The CPU launcher of a pass over the ray list: `f(k, record)` for every entry `k` on all
+/// cores, each record (`stride` floats) stored at the entry's slot of a zeroed buffer of
+/// `slots` records, as the GPU kernel writes it.
+fn scatter(p: &SsrParams, list: &[f32], slots: usize, stride: usize, f: impl Fn(u32, &mut [f32]) + Sync) -> Vec<f32> {
+    let recs: Vec<(usize, Vec<f32>)> = (0..(list.len() / LIST_STRIDE) as u32)
+        .into_par_iter()
+        .map(|k| {
+            let mut r = vec![0.0f32; stride];
+            f(k, &mut r);
+            (stochastic::list_slot(p, list, k) as usize, r)
+        })
+        .collect();
+    let mut out = vec![0.0f32; slots * stride];
+    for (slot, r) in recs {
+        out[slot * stride..(slot + 1) * stride].copy_from_slice(&r);
+    }
+    out
 }
 
 /// A chain buffer the passes write and the host reads back.
@@ -493,23 +588,40 @@ pub struct FramePasses {
     pub color_pyramid: Vec<f32>,
     /// `TILE_STRIDE` words per tile.
     pub tiles: Vec<f32>,
-    /// Exclusive offsets per tile and the total (u32 bits).
+    /// Exclusive ray-list offsets per tile and the total (u32 bits).
     pub offsets: Vec<f32>,
-    /// The `count` list entries (`LIST_STRIDE` words each).
+    /// Exclusive pixel-list offsets per tile and the total (u32 bits).
+    pub pixel_offsets: Vec<f32>,
+    /// The `count` ray-list entries (`LIST_STRIDE` words each).
     pub list: Vec<f32>,
     pub count: usize,
+    /// The eligible pixels (index bits), tile by tile, the resolve's launch list.
+    pub pixels: Vec<f32>,
     /// Ray records at pixel * samples + sample.
     pub rays: Vec<f32>,
+    /// Hit records at the same slots.
+    pub hits: Vec<f32>,
     /// The resolve (`OUT_STRIDE` per pixel).
     pub reflection: Vec<f32>,
 }
 
-/// One frame of stochastic SSR on `gb` (no temporal pass). Returns the result and its ray list.
-pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<(SsrResult, Vec<f32>)> {
+/// The lists and hit records of a stochastic frame, which its temporal pass reads.
+pub struct FrameLists {
+    /// The ray list (`LIST_STRIDE` words per ray).
+    pub list: Vec<f32>,
+    /// The eligible pixels.
+    pub pixels: Vec<f32>,
+    /// Hit records per ray slot.
+    pub hits: Vec<f32>,
+}
+
+/// One frame of stochastic SSR on `gb` (no temporal pass). Returns the result, its lists and its
+/// hit records.
+pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<(SsrResult, FrameLists)> {
     let consts = sssr_params(gb, s, t)?;
     let gbuf = gb.packed();
     let mut r = Runner::new(backend);
-    let FramePasses { depth_pyramid, color_pyramid, tiles, list, count, rays, reflection, .. } =
+    let FramePasses { depth_pyramid, color_pyramid, tiles, list, count, pixels, rays, hits, reflection, .. } =
         r.sssr_frame_passes(&consts, &gbuf, &gb.depth_layers(), &gb.color)?;
     let n_tiles = tiles.len() / TILE_STRIDE;
     let classes: Vec<u32> = tiles.chunks_exact(TILE_STRIDE).map(|c| c[0].to_bits()).collect();
@@ -532,7 +644,7 @@ pub fn sssr_frame(backend: &Backend, gb: &GBuffer, s: &SsrSettings, t: &SssrSett
             tiles: Some(stats),
             previous_reflection: None,
         },
-        list,
+        FrameLists { list, pixels, hits },
     ))
 }
 
@@ -568,7 +680,7 @@ pub fn run_sssr(
         let mut ss = s.clone();
         // Random numbers vary per frame even when the camera does not.
         ss.frame = frame.wrapping_mul(1024).wrapping_add(k);
-        let (mut res, _) = sssr_frame(backend, g, &ss, t)?;
+        let (mut res, lists) = sssr_frame(backend, g, &ss, t)?;
         if frames > 1 {
             let consts = sssr_params(g, &ss, t)?;
             let n = g.width * g.height;
@@ -578,7 +690,7 @@ pub fn run_sssr(
             let mut r = Runner::new(backend);
             // The hit distance is read only by hit-based reprojection.
             let dist = match t.reprojection {
-                Reprojection::Hit => r.sssr_hit_distance(&consts, &packed, &res.rays)?,
+                Reprojection::Hit => r.sssr_hit_distance(&consts, &packed, &res.rays, &lists.hits, &lists.pixels)?,
                 Reprojection::Surface => vec![0.0; n],
             };
             let out = r.sssr_temporal(&consts, &packed, &prev, &dist, &res.reflection, &hist)?;
@@ -645,7 +757,7 @@ fn stored_frame(g: &GBuffer, width: usize, height: usize, f: u32) -> Result<Opti
 /// The ray-list order is a pure function of the G-buffer: a CPU reference for tests.
 pub fn expected_list(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Vec<(u32, u32)>> {
     let consts = sssr_params(gb, s, t)?;
-    let p = SsrParams::load(&consts);
+    let p = consts;
     let gbuf = gb.packed();
     let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
     let mut v = Vec::new();

@@ -25,6 +25,7 @@ use crate::vector::Vec3;
 /// A homogeneous point or plane.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
 pub struct Vec4 {
     /// x component.
     pub x: f32,
@@ -59,6 +60,7 @@ impl Vec4 {
 /// A row-major 4x4 matrix: `r0..r3` are its rows.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
 pub struct Mat4 {
     /// Row 0.
     pub r0: Vec4,
@@ -97,17 +99,6 @@ impl Mat4 {
             self.r0.x, self.r0.y, self.r0.z, self.r0.w, self.r1.x, self.r1.y, self.r1.z, self.r1.w, self.r2.x,
             self.r2.y, self.r2.z, self.r2.w, self.r3.x, self.r3.y, self.r3.z, self.r3.w,
         ]
-    }
-
-    /// Read 16 row-major values starting at `buf[b]`.
-    #[inline]
-    pub fn load(buf: &[f32], b: usize) -> Mat4 {
-        Mat4 {
-            r0: Vec4::new(buf[b], buf[b + 1], buf[b + 2], buf[b + 3]),
-            r1: Vec4::new(buf[b + 4], buf[b + 5], buf[b + 6], buf[b + 7]),
-            r2: Vec4::new(buf[b + 8], buf[b + 9], buf[b + 10], buf[b + 11]),
-            r3: Vec4::new(buf[b + 12], buf[b + 13], buf[b + 14], buf[b + 15]),
-        }
     }
 
     /// `M v` (each row dotted with v, left to right).

@@ -1,5 +1,6 @@
-//! The constants every SSR pass reads: one f32 buffer (`SsrParams::LEN` values; integers stored
-//! as their bits), written by the host and read identically by both backends.
+//! The constants every SSR pass reads: one [`SsrParams`] record (`#[repr(C)]`, 4-byte fields,
+//! a `bytemuck::Pod` on the host), written by the host and bound as it is by every kernel, so the
+//! layout is the struct's and both backends read the same fields.
 //!
 //! Conventions:
 //! * View space: x right, y up, +z forward; linear depth = view z > 0; sky = +inf depth.
@@ -10,101 +11,18 @@
 //!
 //! ```
 //! use shader_core::ssr::mat4::Mat4;
-//! use shader_core::ssr::params::{idx, mip_size, SsrParams, FLAG_REUSE};
-//! let mut buf = vec![0.0f32; idx::LEN];
-//! buf[idx::WIDTH] = f32::from_bits(640); // integers travel as their bits
-//! buf[idx::HEIGHT] = f32::from_bits(360);
-//! buf[idx::NEAR] = 0.1;
-//! buf[idx::FLAGS] = f32::from_bits(FLAG_REUSE);
-//! buf[idx::VIEW..idx::VIEW + 16].copy_from_slice(&Mat4::IDENTITY.to_rows());
-//! let p = SsrParams::load(&buf);
+//! use shader_core::ssr::params::{mip_size, SsrParams, FLAG_REUSE};
+//! let p = SsrParams { width: 640, height: 360, near: 0.1, flags: FLAG_REUSE, view: Mat4::IDENTITY, ..SsrParams::default() };
 //! assert_eq!((p.width, p.height, p.near, p.flags), (640, 360, 0.1, FLAG_REUSE));
-//! assert_eq!(p.view, Mat4::IDENTITY);
+//! // The record the kernels bind: 32 scalar words, then five row-major matrices.
+//! assert_eq!(core::mem::size_of::<SsrParams>(), 4 * (32 + 5 * 16));
 //! // Mip sizes round up and never reach 0.
 //! assert_eq!((mip_size(640, 1), mip_size(5, 1), mip_size(5, 9)), (320, 3, 1));
 //! ```
 
 use super::mat4::Mat4;
 
-/// Index of each value in the parameter buffer (see [`SsrParams`] for what each value means).
-pub mod idx {
-    /// Word of [`super::SsrParams::width`] (a `u32` stored as its bits).
-    pub const WIDTH: usize = 0;
-    /// Word of [`super::SsrParams::height`] (a `u32` stored as its bits).
-    pub const HEIGHT: usize = 1;
-    /// Word of [`super::SsrParams::near`] (an `f32`).
-    pub const NEAR: usize = 2;
-    /// Word of [`super::SsrParams::thickness_scale`] (an `f32`).
-    pub const THICKNESS_SCALE: usize = 3;
-    /// Word of [`super::SsrParams::thickness_bias`] (an `f32`).
-    pub const THICKNESS_BIAS: usize = 4;
-    /// Word of [`super::SsrParams::edge_fade_rcp_length`] (an `f32`).
-    pub const EDGE_FADE_RCP_LENGTH: usize = 5;
-    /// Word of [`super::SsrParams::roughness_fade_rcp_length`] (an `f32`).
-    pub const ROUGHNESS_FADE_RCP_LENGTH: usize = 6;
-    /// Word of [`super::SsrParams::roughness_fade_end_times_rcp_length`] (an `f32`).
-    pub const ROUGHNESS_FADE_END_TIMES_RCP_LENGTH: usize = 7;
-    /// Word of [`super::SsrParams::roughness_fade_end`] (an `f32`).
-    pub const ROUGHNESS_FADE_END: usize = 8;
-    /// Word of [`super::SsrParams::hiz_max_iterations`] (a `u32` stored as its bits).
-    pub const HIZ_MAX_ITERATIONS: usize = 9;
-    /// Word of [`super::SsrParams::depth_max_mip`] (a `u32` stored as its bits).
-    pub const DEPTH_MAX_MIP: usize = 10;
-    /// Word of [`super::SsrParams::linear_steps`] (a `u32` stored as its bits).
-    pub const LINEAR_STEPS: usize = 11;
-    /// Word of [`super::SsrParams::trace_mode`] (a `u32` stored as its bits).
-    pub const TRACE_MODE: usize = 12;
-    /// Word of [`super::SsrParams::color_max_mip`] (a `u32` stored as its bits).
-    pub const COLOR_MAX_MIP: usize = 13;
-    /// Word of [`super::SsrParams::frame`] (a `u32` stored as its bits).
-    pub const FRAME: usize = 14;
-    /// Word of [`super::SsrParams::flags`] (a `u32` stored as its bits).
-    pub const FLAGS: usize = 15;
-    /// Word of [`super::SsrParams::hiz_roughness_cut`] (an `f32`).
-    pub const HIZ_ROUGHNESS_CUT: usize = 16;
-    /// Word of [`super::SsrParams::rough_linear_steps`] (a `u32` stored as its bits).
-    pub const ROUGH_LINEAR_STEPS: usize = 17;
-    /// Word of [`super::SsrParams::samples_per_pixel`] (a `u32` stored as its bits).
-    pub const SAMPLES_PER_PIXEL: usize = 18;
-    /// Word of [`super::SsrParams::rays_per_quad`] (a `u32` stored as its bits).
-    pub const RAYS_PER_QUAD: usize = 19;
-    /// Word of [`super::SsrParams::sample_bias`] (an `f32`).
-    pub const SAMPLE_BIAS: usize = 20;
-    /// Word of [`super::SsrParams::resolve_radius`] (a `u32` stored as its bits).
-    pub const RESOLVE_RADIUS: usize = 21;
-    /// Word of [`super::SsrParams::temporal_alpha`] (an `f32`).
-    pub const TEMPORAL_ALPHA: usize = 22;
-    /// Word of [`super::SsrParams::mip_count`] (a `u32` stored as its bits).
-    pub const MIP_COUNT: usize = 23;
-    /// Word of [`super::SsrParams::sampler`] (a `u32` stored as its bits).
-    pub const SAMPLER: usize = 24;
-    /// Word of [`super::SsrParams::history_depth_tolerance`] (an `f32`).
-    pub const HISTORY_DEPTH_TOLERANCE: usize = 25;
-    /// Word of [`super::SsrParams::history_normal_cos`] (an `f32`).
-    pub const HISTORY_NORMAL_COS: usize = 26;
-    /// Word of [`super::SsrParams::temporal_reprojection`] (a `u32` stored as its bits).
-    pub const TEMPORAL_REPROJECTION: usize = 27;
-    /// Word of [`super::SsrParams::history_roughness_tolerance`] (an `f32`).
-    pub const HISTORY_ROUGHNESS_TOLERANCE: usize = 28;
-    /// Word of [`super::SsrParams::far_depth_offset`] (a `u32` stored as its bits).
-    pub const FAR_DEPTH_OFFSET: usize = 29;
-    /// Word of [`super::SsrParams::min_thickness_scale`] (an `f32`).
-    pub const MIN_THICKNESS_SCALE: usize = 30;
-    /// First of the 16 row-major words of [`super::SsrParams::view`].
-    pub const VIEW: usize = 32;
-    /// First of the 16 row-major words of [`super::SsrParams::proj`].
-    pub const PROJ: usize = 48;
-    /// First of the 16 row-major words of [`super::SsrParams::inv_view`].
-    pub const INV_VIEW: usize = 64;
-    /// First of the 16 row-major words of [`super::SsrParams::prev_proj`].
-    pub const PREV_PROJ: usize = 80;
-    /// First of the 16 row-major words of [`super::SsrParams::prev_inv_view`].
-    pub const PREV_INV_VIEW: usize = 96;
-    /// Number of `f32` words in the parameter buffer (index 31 is unused padding).
-    pub const LEN: usize = 112;
-}
-
-/// Trace mode (the `TRACE_MODE` value): HDRP's hierarchical-Z march over the depth pyramid.
+/// Trace mode ([`SsrParams::trace_mode`]): HDRP's hierarchical-Z march over the depth pyramid.
 pub const TRACE_HIZ: u32 = 0;
 /// Trace mode: a fixed number of linear steps in screen space ([`SsrParams::linear_steps`]).
 pub const TRACE_LINEAR: u32 = 1;
@@ -114,8 +32,8 @@ pub const TRACE_BRUTE_FORCE: u32 = 2;
 /// pipeline's cheap tracer for rough rays).
 pub const TRACE_LINEAR_CROSSING: u32 = 3;
 
-/// GGX visible-normal samplers of `shader_core::vndf` for the stochastic rays (the `SAMPLER`
-/// value). Importance-sampling bias truncates the u that maps to the lobe's radial/height
+/// GGX visible-normal samplers of `shader_core::vndf` for the stochastic rays
+/// ([`SsrParams::sampler`]). Importance-sampling bias truncates the u that maps to the lobe's radial/height
 /// coordinate: u1 for Heitz (disk radius r = sqrt(u1)), u2 for the spherical caps and the
 /// bounded caps (cap height z = (1 - u2)(1 + b) - b; their u1 is the azimuth).
 pub const SAMPLER_HEITZ: u32 = 0;
@@ -124,7 +42,7 @@ pub const SAMPLER_CAPS: u32 = 1;
 /// Sampler: Eto & Tokuyoshi 2023 bounded VNDF ([`crate::vndf::sample_vndf_bounded`]).
 pub const SAMPLER_BOUNDED: u32 = 2;
 
-/// Temporal reprojection of the reflection history (the `TEMPORAL_REPROJECTION` value): through
+/// Temporal reprojection of the reflection history ([`SsrParams::temporal_reprojection`]): through
 /// the surface's motion vector, or through the reflected hit's virtual image.
 pub const REPROJECT_SURFACE: u32 = 0;
 /// Reprojection through the reflected hit point's virtual image.
@@ -142,8 +60,11 @@ pub const FLAG_REUSE: u32 = 8;
 /// instead of the generating pixel's pdf at the reconstructed hit direction.
 pub const FLAG_SAMPLED_PDF: u32 = 16;
 
-/// The decoded parameters.
-#[derive(Clone, Copy, Debug)]
+/// The parameters of every SSR pass, bound as they are (`#[repr(C)]`, 4-byte fields: no padding
+/// between them; `pad` keeps the matrices 16-byte aligned).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
 pub struct SsrParams {
     /// Render-target width in pixels.
     pub width: u32,
@@ -222,6 +143,8 @@ pub struct SsrParams {
     /// 1 / (1 + min_thickness) (HDRP's form of `thickness_scale`), so surfaces seen face-on (far
     /// depth = depth) keep a slab against rounding; 1 gives no minimum.
     pub min_thickness_scale: f32,
+    /// Unused.
+    pub pad: u32,
     /// World-to-view transform of the current frame.
     pub view: Mat4,
     /// View-to-clip projection of the current frame (reverse-Z infinite perspective).
@@ -232,56 +155,6 @@ pub struct SsrParams {
     pub prev_proj: Mat4,
     /// The previous frame's view-to-world transform.
     pub prev_inv_view: Mat4,
-}
-
-#[inline]
-fn u(buf: &[f32], i: usize) -> u32 {
-    buf[i].to_bits()
-}
-
-impl SsrParams {
-    /// Decode the parameter buffer.
-    #[inline]
-    pub fn load(b: &[f32]) -> SsrParams {
-        SsrParams {
-            width: u(b, idx::WIDTH),
-            height: u(b, idx::HEIGHT),
-            near: b[idx::NEAR],
-            thickness_scale: b[idx::THICKNESS_SCALE],
-            thickness_bias: b[idx::THICKNESS_BIAS],
-            edge_fade_rcp_length: b[idx::EDGE_FADE_RCP_LENGTH],
-            roughness_fade_rcp_length: b[idx::ROUGHNESS_FADE_RCP_LENGTH],
-            roughness_fade_end_times_rcp_length: b[idx::ROUGHNESS_FADE_END_TIMES_RCP_LENGTH],
-            roughness_fade_end: b[idx::ROUGHNESS_FADE_END],
-            hiz_max_iterations: u(b, idx::HIZ_MAX_ITERATIONS),
-            depth_max_mip: u(b, idx::DEPTH_MAX_MIP),
-            linear_steps: u(b, idx::LINEAR_STEPS),
-            trace_mode: u(b, idx::TRACE_MODE),
-            color_max_mip: u(b, idx::COLOR_MAX_MIP),
-            frame: u(b, idx::FRAME),
-            flags: u(b, idx::FLAGS),
-            hiz_roughness_cut: b[idx::HIZ_ROUGHNESS_CUT],
-            rough_linear_steps: u(b, idx::ROUGH_LINEAR_STEPS),
-            samples_per_pixel: u(b, idx::SAMPLES_PER_PIXEL),
-            rays_per_quad: u(b, idx::RAYS_PER_QUAD),
-            sample_bias: b[idx::SAMPLE_BIAS],
-            resolve_radius: u(b, idx::RESOLVE_RADIUS),
-            temporal_alpha: b[idx::TEMPORAL_ALPHA],
-            mip_count: u(b, idx::MIP_COUNT),
-            sampler: u(b, idx::SAMPLER),
-            history_depth_tolerance: b[idx::HISTORY_DEPTH_TOLERANCE],
-            history_normal_cos: b[idx::HISTORY_NORMAL_COS],
-            temporal_reprojection: u(b, idx::TEMPORAL_REPROJECTION),
-            history_roughness_tolerance: b[idx::HISTORY_ROUGHNESS_TOLERANCE],
-            far_depth_offset: u(b, idx::FAR_DEPTH_OFFSET),
-            min_thickness_scale: b[idx::MIN_THICKNESS_SCALE],
-            view: Mat4::load(b, idx::VIEW),
-            proj: Mat4::load(b, idx::PROJ),
-            inv_view: Mat4::load(b, idx::INV_VIEW),
-            prev_proj: Mat4::load(b, idx::PREV_PROJ),
-            prev_inv_view: Mat4::load(b, idx::PREV_INV_VIEW),
-        }
-    }
 }
 
 /// Width of mip `level` of a pyramid whose level 0 is `w` wide: ceil(w / 2^level), at least 1.

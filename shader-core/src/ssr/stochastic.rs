@@ -24,7 +24,7 @@
 use crate::ieee;
 use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::resolve::{
-    hit_position, lambda_cos, load_hit, load_ray, log2_approx, perceptual_roughness_fade, sample_color, store as resolve_store,
+    lambda_cos, load_hit, load_ray, log2_approx, perceptual_roughness_fade, sample_color, store as resolve_store,
     store_resolved, HIT_STRIDE, OUT_STRIDE,
 };
 use super::trace::{clampf, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_STRIDE};
@@ -46,6 +46,10 @@ pub const TILE_LINEAR: u32 = 2;
 pub const TILE_MIXED: u32 = 3;
 /// Floats per tile record: class, rays, eligible pixels (bits), unused.
 pub const TILE_STRIDE: usize = 4;
+/// Column of a tile record holding its ray count (scanned into the ray list's offsets).
+pub const TILE_RAYS: usize = 1;
+/// Column of a tile record holding its eligible-pixel count (scanned into the pixel list's offsets).
+pub const TILE_ELIGIBLE: usize = 2;
 /// Words per ray-list entry: pixel index, sample | (trace mode << 8).
 pub const LIST_STRIDE: usize = 2;
 /// Floats per history texel: r, g, b (premultiplied), opacity, accumulated frame count.
@@ -136,15 +140,15 @@ pub fn classify_tile(p: &SsrParams, gbuf: &[f32], tx: u32, ty: u32) -> (u32, u32
     (class, rays, eligible_px)
 }
 
-/// Exclusive prefix sum of the tiles' ray counts, in tile order (the CPU backend's compaction
-/// step; the GPU's parallel `sssr_scan` must give the same): `offsets[t]` for each of `n` tiles
-/// and the total at `offsets[n]`.
-pub fn prefix_sum_tiles(tiles: &[f32], n: u32, offsets: &mut [f32]) {
+/// Exclusive prefix sum of one count column of the tiles ([`TILE_RAYS`] or [`TILE_ELIGIBLE`]), in
+/// tile order (the CPU backend's compaction step; the GPU's parallel `sssr_scan` must give the
+/// same): `offsets[t]` for each of `n` tiles and the total at `offsets[n]`.
+pub fn prefix_sum_tiles(tiles: &[f32], n: u32, column: usize, offsets: &mut [f32]) {
     let mut sum: u32 = 0;
     let mut t: u32 = 0;
     while t < n {
         offsets[t as usize] = f32::from_bits(sum);
-        sum += tiles[(t as usize) * TILE_STRIDE + 1].to_bits();
+        sum += tiles[(t as usize) * TILE_STRIDE + column].to_bits();
         t += 1;
     }
     offsets[n as usize] = f32::from_bits(sum);
@@ -209,11 +213,16 @@ pub fn dispatch_record(rays: u32, workgroup: u32) -> [u32; DISPATCH_WORDS] {
     [rays, gx, gx, gy, 1]
 }
 
-/// Write tile (tx, ty)'s rays into the list from its offset: pixels in row order within the
-/// tile, samples in order.
-pub fn emit_tile_rays(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty: u32, list: &mut [f32]) {
+/// Write tile (tx, ty)'s rays into the ray list from its offset in `ray_offsets` (pixels in row
+/// order within the tile, samples in order) and its eligible pixels into the pixel list from its
+/// offset in `pixel_offsets` (row order): the two compacted lists the trace, hit-record and
+/// resolve passes are launched over.
+#[allow(clippy::too_many_arguments)]
+pub fn emit_tile(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets: &[f32], tx: u32, ty: u32, list: &mut [f32], pixels: &mut [f32]) {
     let tiles_x = (p.width + TILE - 1) / TILE;
-    let mut k = offsets[(ty * tiles_x + tx) as usize].to_bits();
+    let t = (ty * tiles_x + tx) as usize;
+    let mut k = ray_offsets[t].to_bits();
+    let mut kp = pixel_offsets[t].to_bits();
     let mut j = 0;
     while j < TILE {
         let y = ty * TILE + j;
@@ -222,14 +231,18 @@ pub fn emit_tile_rays(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty:
             let x = tx * TILE + i;
             if x < p.width && y < p.height {
                 let s = load_surface(p, gbuf, x, y);
-                if eligible(p, &s) && traces(p, x, y, s.perceptual_roughness) {
-                    let mode = trace_mode_for(p, s.perceptual_roughness);
-                    let mut smp = 0;
-                    while smp < p.samples_per_pixel {
-                        list[(k as usize) * LIST_STRIDE] = f32::from_bits(y * p.width + x);
-                        list[(k as usize) * LIST_STRIDE + 1] = f32::from_bits(smp | (mode << 8));
-                        k += 1;
-                        smp += 1;
+                if eligible(p, &s) {
+                    pixels[kp as usize] = f32::from_bits(y * p.width + x);
+                    kp += 1;
+                    if traces(p, x, y, s.perceptual_roughness) {
+                        let mode = trace_mode_for(p, s.perceptual_roughness);
+                        let mut smp = 0;
+                        while smp < p.samples_per_pixel {
+                            list[(k as usize) * LIST_STRIDE] = f32::from_bits(y * p.width + x);
+                            list[(k as usize) * LIST_STRIDE + 1] = f32::from_bits(smp | (mode << 8));
+                            k += 1;
+                            smp += 1;
+                        }
                     }
                 }
             }
@@ -237,6 +250,21 @@ pub fn emit_tile_rays(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty:
         }
         j += 1;
     }
+}
+
+/// The ray slot (pixel * samples per pixel + sample, the ray records' order) of ray-list entry `k`.
+#[inline]
+pub fn list_slot(p: &SsrParams, list: &[f32], k: u32) -> u32 {
+    let pixel = list[(k as usize) * LIST_STRIDE].to_bits();
+    let smp = list[(k as usize) * LIST_STRIDE + 1].to_bits() & 0xff;
+    pixel * p.samples_per_pixel + smp
+}
+
+/// Pixel-list entry `k`: (pixel index, x, y).
+#[inline]
+pub fn list_pixel(p: &SsrParams, pixels: &[f32], k: u32) -> (u32, u32, u32) {
+    let q = pixels[k as usize].to_bits();
+    (q, q % p.width, q / p.width)
 }
 
 /// An orthonormal tangent frame (t, b) around unit n (Duff et al. 2017, "Building an Orthonormal
@@ -481,25 +509,28 @@ pub fn ray_weight(s: &Surface, alpha: f32, nv: f32, lambda_v: f32, mirror: bool,
 
 /// Reflection hit distance of pixel (x, y): the [`ray_weight`]-weighted mean of |hit - pos| over
 /// the pixel's own hitting rays (the neighbours' rays may see other objects at other distances,
-/// which measurably blurred moving reflections); 0 when none hits or the pixel traced no ray.
-pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Surface, x: u32, y: u32) -> f32 {
+/// which measurably blurred moving reflections), with each ray's hit position and pdf read from
+/// its hit record (`super::hits`); 0 when none hits or the pixel traced no ray.
+pub fn reflection_hit_distance(p: &SsrParams, rays: &[f32], hits: &[f32], s: &Surface, x: u32, y: u32) -> f32 {
     let spp = p.samples_per_pixel;
     let mirror = s.perceptual_roughness < MIRROR_ROUGHNESS;
     let alpha = s.perceptual_roughness * s.perceptual_roughness;
     let nv = s.n.dot(s.v);
+    let lambda_v = lambda_cos(nv, alpha);
     let q = y * p.width + x;
     let mut acc_d = 0.0;
     let mut acc_w = 0.0;
     let mut k = 0;
     while k < spp {
-        let r = load_ray(rays, ((q * spp + k) as usize) * RAY_STRIDE);
+        let slot = (q * spp + k) as usize;
+        let r = load_ray(rays, slot * RAY_STRIDE);
         k += 1;
         if r.valid && r.hit {
-            let hp = hit_position(p, gbuf, r.hx, r.hy);
-            let d = hp - s.pos;
+            let h = load_hit(hits, slot * HIT_STRIDE);
+            let d = h.pos - s.pos;
             let len = ieee::sqrt(d.dot(d));
             let l = if len > 0.0 { d / len } else { Vec3::ZERO };
-            let w = ray_weight(s, alpha, nv, lambda_cos(nv, alpha), mirror, l, ray_pdf_at_hit(p, s, hp, r.pdf));
+            let w = ray_weight(s, alpha, nv, lambda_v, mirror, l, h.pdf);
             acc_d += w * len;
             acc_w += w;
         }
@@ -512,10 +543,10 @@ pub fn reflection_hit_distance(p: &SsrParams, gbuf: &[f32], rays: &[f32], s: &Su
 }
 
 /// The hit-distance pass for pixel (x, y): [`reflection_hit_distance`] for valid surfaces, else 0.
-pub fn hit_distance_pixel(p: &SsrParams, gbuf: &[f32], rays: &[f32], x: u32, y: u32) -> f32 {
+pub fn hit_distance_pixel(p: &SsrParams, gbuf: &[f32], rays: &[f32], hits: &[f32], x: u32, y: u32) -> f32 {
     let s = load_surface(p, gbuf, x, y);
     if s.valid {
-        reflection_hit_distance(p, gbuf, rays, &s, x, y)
+        reflection_hit_distance(p, rays, hits, &s, x, y)
     } else {
         0.0
     }

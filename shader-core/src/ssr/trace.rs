@@ -14,11 +14,9 @@
 //! surface does.
 //!
 //! ```
-//! use shader_core::ssr::params::{idx, SsrParams};
+//! use shader_core::ssr::params::SsrParams;
 //! use shader_core::ssr::trace::{clampf, device_depth, floor_index, minf};
-//! let mut buf = vec![0.0f32; idx::LEN];
-//! buf[idx::NEAR] = 0.1;
-//! let p = SsrParams::load(&buf);
+//! let p = SsrParams { near: 0.1, ..SsrParams::default() };
 //! // Reverse-Z: device depth 1 at the near plane, 0 for the sky (infinite linear depth).
 //! assert_eq!(device_depth(&p, 0.1), 1.0);
 //! assert_eq!(device_depth(&p, f32::INFINITY), 0.0);
