@@ -391,7 +391,10 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("trace", || {
-                scatter(&p, list, slots, RAY_STRIDE, |k, o| stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, o, 0))
+                scatter::<RAY_STRIDE>(count, slots, |k, o| {
+                    stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, o, 0);
+                    stochastic::list_slot(&p, list, k) as usize
+                })
             })),
             Backend::Gpu(_) => self.gpu_pass("trace", "ssr::sssr_trace", count as u32, &[], consts, &[gbuf, depth_pyr, list], slots * RAY_STRIDE, None),
         }
@@ -410,8 +413,10 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("hits", || {
-                scatter(&p, list, slots, HIT_STRIDE, |k, o| {
-                    hits::hit_record_slot(&p, gbuf, rays, stochastic::list_slot(&p, list, k), o, 0)
+                scatter::<HIT_STRIDE>(count, slots, |k, o| {
+                    let slot = stochastic::list_slot(&p, list, k);
+                    hits::hit_record_slot(&p, gbuf, rays, slot, o, 0);
+                    slot as usize
                 })
             })),
             Backend::Gpu(_) => self.gpu_pass("hits", "ssr::sssr_hits", count as u32, &[], consts, &[gbuf, rays, list], slots * HIT_STRIDE, None),
@@ -430,20 +435,11 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                let recs: Vec<(usize, [f32; OUT_STRIDE])> = (0..pixels.len() as u32)
-                    .into_par_iter()
-                    .map(|k| {
-                        let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-                        let mut o = [0.0f32; OUT_STRIDE];
-                        stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, x, y, &mut o, 0);
-                        (q as usize, o)
-                    })
-                    .collect();
-                let mut out = vec![0.0f32; n * OUT_STRIDE];
-                for (q, o) in recs {
-                    out[q * OUT_STRIDE..(q + 1) * OUT_STRIDE].copy_from_slice(&o);
-                }
-                out
+                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| {
+                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+                    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, x, y, o, 0);
+                    q as usize
+                })
             })),
             Backend::Gpu(_) => self.gpu_pass(
                 "resolve",
@@ -470,18 +466,11 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("temporal", || {
-                let recs: Vec<(usize, f32)> = (0..pixels.len() as u32)
-                    .into_par_iter()
-                    .map(|k| {
-                        let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-                        (q as usize, stochastic::hit_distance_pixel(&p, gbuf, rays, hits, x, y))
-                    })
-                    .collect();
-                let mut out = vec![0.0f32; n];
-                for (q, d) in recs {
-                    out[q] = d;
-                }
-                out
+                scatter::<1>(pixels.len(), n, |k, o| {
+                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+                    o[0] = stochastic::hit_distance_pixel(&p, gbuf, rays, hits, x, y);
+                    q as usize
+                })
             })),
             Backend::Gpu(_) => self.gpu_pass("temporal", "ssr::sssr_hit_distance", pixels.len() as u32, &[], consts, &[gbuf, rays, hits, pixels], n, None),
         }
@@ -555,21 +544,21 @@ fn scan_pass_args(tiles: usize, column: usize) -> Vec<u32> {
     pass_args(1, &[tiles as u32, column as u32]).0
 }
 
-/// The CPU launcher of a pass over the ray list: `f(k, record)` for every entry `k` on all
-/// cores, each record (`stride` floats) stored at the entry's slot of a zeroed buffer of
-/// `slots` records, as the GPU kernel writes it.
-fn scatter(p: &SsrParams, list: &[f32], slots: usize, stride: usize, f: impl Fn(u32, &mut [f32]) + Sync) -> Vec<f32> {
-    let recs: Vec<(usize, Vec<f32>)> = (0..(list.len() / LIST_STRIDE) as u32)
+/// The CPU launcher of a pass over a compacted list of `entries`: on all cores, `f(k, record)`
+/// computes entry `k`'s record (`S` floats) and returns the slot it belongs to; each record is
+/// stored at its slot of a zeroed buffer of `slots` records, as the GPU kernel writes it.
+fn scatter<const S: usize>(entries: usize, slots: usize, f: impl Fn(u32, &mut [f32]) -> usize + Sync) -> Vec<f32> {
+    let recs: Vec<(usize, [f32; S])> = (0..entries as u32)
         .into_par_iter()
         .map(|k| {
-            let mut r = vec![0.0f32; stride];
-            f(k, &mut r);
-            (stochastic::list_slot(p, list, k) as usize, r)
+            let mut r = [0.0f32; S];
+            let slot = f(k, &mut r);
+            (slot, r)
         })
         .collect();
-    let mut out = vec![0.0f32; slots * stride];
+    let mut out = vec![0.0f32; slots * S];
     for (slot, r) in recs {
-        out[slot * stride..(slot + 1) * stride].copy_from_slice(&r);
+        out[slot * S..(slot + 1) * S].copy_from_slice(&r);
     }
     out
 }
