@@ -1,6 +1,8 @@
-//! Screen-space reflection passes (see `shader_core::ssr`): one compute entry point per pass,
-//! each mapping an invocation to a pixel (or tile, or ray) and calling the per-invocation function
-//! the CPU backend calls too.
+//! Screen-space reflection passes (see `shader_core::ssr`): one compute entry point per pass and,
+//! for each, the per-invocation function (below, or `shader_core::ssr::stochastic`'s list
+//! functions) that maps invocation `i` to its pixel, texel, tile or list entry and computes it: the
+//! entry point calls it after checking the invocation range, the host's CPU backend calls the same
+//! function for every invocation, so nothing on the host re-derives the mapping.
 //!
 //! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` = [invocations,
 //! groups in x, pass-specific...]; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
@@ -15,10 +17,78 @@ use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular;
 use shader_core::ssr::stochastic;
 use shader_core::ssr::trace::{self, RAY_STRIDE};
+use shader_core::vector::Vec3;
 use spirv_std::glam::UVec3;
 use spirv_std::arch::workgroup_memory_barrier_with_group_sync;
 use spirv_std::spirv;
 
+/// Depth pyramid, invocation `i` of mip `level` (>= 1, row-major texels): its texel's value.
+#[inline]
+pub fn hiz_downsample(p: &SsrParams, pyr: &[f32], level: u32, i: u32) -> f32 {
+    let w = mip_size(p.width, level);
+    trace::hiz_downsample_texel(p, pyr, level, i % w, i / w)
+}
+
+/// Colour pyramid, invocation `i` of mip `level` (>= 1): its texel's RGB.
+#[inline]
+pub fn color_downsample(p: &SsrParams, pyr: &[f32], level: u32, i: u32) -> Vec3 {
+    let w = mip_size(p.width, level);
+    resolve::color_downsample_texel(p, pyr, level, i % w, i / w)
+}
+
+/// HDRP tracing, invocation `i` (pixel `i`, row-major): its ray record at `rays[ob..]`.
+#[inline]
+pub fn hdrp_trace(p: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], i: u32, rays: &mut [f32], ob: usize) {
+    trace::hdrp_trace_pixel(p, gbuf, depth_pyr, i % p.width, i / p.width, rays, ob);
+}
+
+/// `SSR_APPROX`, invocation `i` (pixel `i`): its reflection at `out[ob..]`.
+#[inline]
+pub fn hdrp_reproject(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], i: u32, out: &mut [f32], ob: usize) {
+    resolve::hdrp_reproject_approx(p, gbuf, color_pyr, rays, i % p.width, i / p.width, out, ob);
+}
+
+/// HDRP's neighbourhood resolve of shape `shape`, invocation `i` (pixel `i`): its reflection at
+/// `out[ob..]`.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn hdrp_resolve(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], hits: &[f32], shape: u32, i: u32, out: &mut [f32], ob: usize) {
+    resolve::hdrp_resolve_neighborhood(p, gbuf, color_pyr, rays, hits, shape, i % p.width, i / p.width, out, ob);
+}
+
+/// Tile classification, invocation `i` (tile `i`, row-major 8x8 tiles): its record (class, rays,
+/// eligible pixels, 0) as u32 bits at `tiles[ob..]`.
+#[inline]
+pub fn classify(p: &SsrParams, gbuf: &[f32], i: u32, tiles: &mut [f32], ob: usize) {
+    let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
+    let (class, rays, eligible) = stochastic::classify_tile(p, gbuf, i % tiles_x, i / tiles_x);
+    tiles[ob] = f32::from_bits(class);
+    tiles[ob + 1] = f32::from_bits(rays);
+    tiles[ob + 2] = f32::from_bits(eligible);
+    tiles[ob + 3] = f32::from_bits(0);
+}
+
+/// List emission, invocation `i` (tile `i`): its rays and eligible pixels into the two lists.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn emit(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets: &[f32], i: u32, list: &mut [f32], pixels: &mut [f32]) {
+    let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
+    stochastic::emit_tile(p, gbuf, ray_offsets, pixel_offsets, i % tiles_x, i / tiles_x, list, pixels);
+}
+
+/// Temporal accumulation, invocation `i` (pixel `i`): its history texel at `out[ob..]`.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn temporal(p: &SsrParams, gbuf: &[f32], prev_gbuf: &[f32], hit_distance: &[f32], current: &[f32], history: &[f32], i: u32, out: &mut [f32], ob: usize) {
+    stochastic::temporal_pixel(p, gbuf, prev_gbuf, hit_distance, current, history, i % p.width, i / p.width, out, ob);
+}
+
+/// Specular term, invocation `i` (pixel `i`): its value at `out[ob..]`.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn specular_term(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], reflection: &[f32], i: u32, out: &mut [f32], ob: usize) {
+    specular::specular_pixel(p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, out, ob);
+}
 
 /// Min-depth pyramid: writes mip `args[2]` (>= 1) of `pyr` from the mip below it.
 #[spirv(compute(threads(64)))]
@@ -31,9 +101,7 @@ pub fn ssr_hiz_downsample(
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
     let level = args[2];
-    let w = mip_size(p.width, level);
-    let (x, y) = (i % w, i / w);
-    let v = trace::hiz_downsample_texel(&p, pyr, level, x, y);
+    let v = hiz_downsample(&p, pyr, level, i);
     pyr[(trace::p_mip_offset(&p, level) + i) as usize] = v;
 }
 
@@ -48,9 +116,7 @@ pub fn ssr_color_downsample(
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
     let level = args[2];
-    let w = mip_size(p.width, level);
-    let (x, y) = (i % w, i / w);
-    let c = resolve::color_downsample_texel(&p, pyr, level, x, y);
+    let c = color_downsample(&p, pyr, level, i);
     let b = ((trace::p_mip_offset(&p, level) + i) as usize) * COLOR_STRIDE;
     pyr[b] = c.x;
     pyr[b + 1] = c.y;
@@ -69,8 +135,7 @@ pub fn ssr_hdrp_trace(
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
-    let (x, y) = (i % p.width, i / p.width);
-    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, rays, (i as usize) * RAY_STRIDE);
+    hdrp_trace(&p, gbuf, depth_pyr, i, rays, (i as usize) * RAY_STRIDE);
 }
 
 /// Hit records (`shader_core::ssr::hits`): one invocation per ray slot (pixels x samples per
@@ -102,7 +167,7 @@ pub fn ssr_hdrp_reproject(
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
-    resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
+    hdrp_reproject(&p, gbuf, color_pyr, rays, i, out, (i as usize) * OUT_STRIDE);
 }
 
 /// HDRP's neighbourhood resolve (`args[2]` = shape: `resolve::NEIGHBORHOOD_3X3` or
@@ -122,7 +187,7 @@ pub fn ssr_hdrp_resolve(
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
-    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, args[2], i % p.width, i / p.width, out, (i as usize) * OUT_STRIDE);
+    hdrp_resolve(&p, gbuf, color_pyr, rays, hits, args[2], i, out, (i as usize) * OUT_STRIDE);
 }
 
 /// Stochastic SSR, tile classification: one invocation per 8x8 tile writes (class, rays,
@@ -137,13 +202,7 @@ pub fn sssr_classify(
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
-    let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
-    let (class, rays, eligible) = stochastic::classify_tile(&p, gbuf, i % tiles_x, i / tiles_x);
-    let b = (i as usize) * stochastic::TILE_STRIDE;
-    tiles[b] = f32::from_bits(class);
-    tiles[b + 1] = f32::from_bits(rays);
-    tiles[b + 2] = f32::from_bits(eligible);
-    tiles[b + 3] = f32::from_bits(0);
+    classify(&p, gbuf, i, tiles, (i as usize) * stochastic::TILE_STRIDE);
 }
 
 /// Stochastic SSR, compaction step 2: each tile writes its rays (pixel, sample | mode << 8) into
@@ -162,8 +221,7 @@ pub fn sssr_emit(
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
-    let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
-    stochastic::emit_tile(&p, gbuf, ray_offsets, pixel_offsets, i % tiles_x, i / tiles_x, list, pixels);
+    emit(&p, gbuf, ray_offsets, pixel_offsets, i, list, pixels);
 }
 
 /// Stochastic SSR, tracing over the compacted ray list: entry k's record goes to its slot
@@ -241,7 +299,7 @@ pub fn sssr_temporal(
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
-    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, hit_distance, current, history, i % p.width, i / p.width, out, (i as usize) * stochastic::HISTORY_STRIDE);
+    temporal(&p, gbuf, prev_gbuf, hit_distance, current, history, i, out, (i as usize) * stochastic::HISTORY_STRIDE);
 }
 
 /// Stochastic SSR, reflection hit distance (the temporal pass's virtual-image input) over the
@@ -281,7 +339,7 @@ pub fn ssr_specular(
 ) {
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
-    specular::specular_pixel(&p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, out, (i as usize) * specular::SPECULAR_STRIDE);
+    specular_term(&p, gbuf, base_color, lut, reflection, i, out, (i as usize) * specular::SPECULAR_STRIDE);
 }
 
 /// Stochastic SSR, compaction step 1: the exclusive prefix sum of one count column of the tiles

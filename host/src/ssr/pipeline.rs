@@ -11,9 +11,10 @@ use rayon::prelude::*;
 use shader_core::ssr::params::{self, mip_size, SsrParams};
 use shader_core::ssr::hits;
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
-use shader_core::ssr::specular::{self, SPECULAR_STRIDE};
+use shader_core::ssr::specular::SPECULAR_STRIDE;
 use shader_core::ssr::trace::{self, RAY_STRIDE};
 use std::time::Instant;
+use shader_kernels::ssr as kern;
 
 /// How rays are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -317,8 +318,7 @@ impl<'a> Runner<'a> {
                     self.cpu_timed("depth pyramid", || {
                         let (src, dst) = pyr.split_at_mut(off);
                         dst[..n].par_iter_mut().enumerate().for_each(|(i, o)| {
-                            let i = i as u32;
-                            *o = trace::hiz_downsample_texel(&p, src, level, i % w, i / w);
+                            *o = kern::hiz_downsample(&p, src, level, i as u32);
                         });
                     });
                 }
@@ -345,8 +345,7 @@ impl<'a> Runner<'a> {
                     self.cpu_timed("color pyramid", || {
                         let (src, dst) = pyr.split_at_mut(off);
                         dst[..n * COLOR_STRIDE].par_chunks_mut(COLOR_STRIDE).enumerate().for_each(|(i, o)| {
-                            let i = i as u32;
-                            let c = resolve::color_downsample_texel(&p, src, level, i % w, i / w);
+                            let c = kern::color_downsample(&p, src, level, i as u32);
                             o.copy_from_slice(&[c.x, c.y, c.z]);
                         });
                     });
@@ -366,10 +365,7 @@ impl<'a> Runner<'a> {
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("trace", || {
                 let mut out = vec![0.0f32; n * RAY_STRIDE];
-                out.par_chunks_mut(RAY_STRIDE).enumerate().for_each(|(i, o)| {
-                    let i = i as u32;
-                    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, i % p.width, i / p.width, o, 0);
-                });
+                out.par_chunks_mut(RAY_STRIDE).enumerate().for_each(|(i, o)| kern::hdrp_trace(&p, gbuf, depth_pyr, i as u32, o, 0));
                 out
             })),
             Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", n as u32, &[], consts, &[gbuf, depth_pyr], n * RAY_STRIDE, None),
@@ -403,10 +399,7 @@ impl<'a> Runner<'a> {
             return match self.backend {
                 Backend::Cpu => Ok(self.cpu_timed("resolve", || {
                     let mut out = vec![0.0f32; n * OUT_STRIDE];
-                    out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
-                        let i = i as u32;
-                        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, i % p.width, i / p.width, o, 0);
-                    });
+                    out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| kern::hdrp_reproject(&p, gbuf, color_pyr, rays, i as u32, o, 0));
                     out
                 })),
                 Backend::Gpu(_) => self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[], consts, &[gbuf, color_pyr, rays], n * OUT_STRIDE, None),
@@ -417,10 +410,7 @@ impl<'a> Runner<'a> {
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
                 let mut out = vec![0.0f32; n * OUT_STRIDE];
-                out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| {
-                    let i = i as u32;
-                    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, shape, i % p.width, i / p.width, o, 0);
-                });
+                out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| kern::hdrp_resolve(&p, gbuf, color_pyr, rays, hits, shape, i as u32, o, 0));
                 out
             })),
             Backend::Gpu(_) => {
@@ -440,10 +430,7 @@ impl<'a> Runner<'a> {
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("specular", || {
                 let mut out = vec![0.0f32; n * SPECULAR_STRIDE];
-                out.par_chunks_mut(SPECULAR_STRIDE).enumerate().for_each(|(i, o)| {
-                    let i = i as u32;
-                    specular::specular_pixel(&p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, o, 0);
-                });
+                out.par_chunks_mut(SPECULAR_STRIDE).enumerate().for_each(|(i, o)| kern::specular_term(&p, gbuf, base_color, lut, reflection, i as u32, o, 0));
                 out
             })),
             Backend::Gpu(_) => self.gpu_pass(

@@ -16,6 +16,7 @@ use shader_core::ssr::params::mip_size;
 use shader_core::ssr::resolve::{COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
+use shader_kernels::ssr as kern;
 
 /// Stochastic SSR settings.
 #[derive(Clone, Debug)]
@@ -138,11 +139,7 @@ impl Runner<'_> {
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("classify", || {
                 let mut out = vec![0.0f32; n * TILE_STRIDE];
-                out.par_chunks_mut(TILE_STRIDE).enumerate().for_each(|(i, o)| {
-                    let i = i as u32;
-                    let (c, r, e) = stochastic::classify_tile(&p, gbuf, i % tx, i / tx);
-                    o.copy_from_slice(&[f32::from_bits(c), f32::from_bits(r), f32::from_bits(e), 0.0]);
-                });
+                out.par_chunks_mut(TILE_STRIDE).enumerate().for_each(|(i, o)| kern::classify(&p, gbuf, i as u32, o, 0));
                 out
             })),
             Backend::Gpu(_) => self.gpu_pass("classify", "ssr::sssr_classify", n as u32, &[], consts, &[gbuf], n * TILE_STRIDE, None),
@@ -362,7 +359,7 @@ impl Runner<'_> {
                 let mut list = vec![0.0f32; rays.max(1) * LIST_STRIDE];
                 let mut pixels = vec![0.0f32; eligible.max(1)];
                 for t in 0..n as u32 {
-                    stochastic::emit_tile(&p, gbuf, ray_offsets, pixel_offsets, t % tx, t / tx, &mut list, &mut pixels);
+                    kern::emit(&p, gbuf, ray_offsets, pixel_offsets, t, &mut list, &mut pixels);
                 }
                 (list, pixels)
             }),
@@ -488,8 +485,7 @@ impl Runner<'_> {
             Backend::Cpu => Ok(self.cpu_timed("temporal", || {
                 let mut out = vec![0.0f32; n * HISTORY_STRIDE];
                 out.par_chunks_mut(HISTORY_STRIDE).enumerate().for_each(|(i, o)| {
-                    let i = i as u32;
-                    stochastic::temporal_pixel(&p, gbuf, prev_gbuf, hit_distance, current, history, i % p.width, i / p.width, o, 0);
+                    kern::temporal(&p, gbuf, prev_gbuf, hit_distance, current, history, i as u32, o, 0)
                 });
                 out
             })),
