@@ -219,30 +219,18 @@ pub trait LaunchArgs: bytemuck::Pod + Send + Sync {
     fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32);
 }
 
-/// `LaunchArgs` for records whose launch fields are `invocations`, `groups_x`, `first_pixel`.
-macro_rules! pixel_launch_args {
-    ($($t:ty),*) => {$(
-        impl LaunchArgs for $t {
-            fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32) {
-                self.invocations = invocations;
-                self.groups_x = groups_x;
-                self.first_pixel = first;
-            }
-        }
-    )*};
-}
-pixel_launch_args!(shader_kernels::render::RenderArgs, shader_kernels::render::GBufferArgs);
-
-/// `LaunchArgs` for records whose launch fields are `invocations`, `groups_x`, `first`.
+/// `LaunchArgs` for records whose launch fields are `invocations`, `groups_x` and the named
+/// first-invocation field.
 macro_rules! launch_args {
-    ($($t:ty),*) => {$(
+    ($first:ident: $($t:ty),*) => {$(
         impl LaunchArgs for $t {
             fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32) {
                 self.invocations = invocations;
                 self.groups_x = groups_x;
-                self.first = first;
+                self.$first = first;
             }
         }
     )*};
 }
-launch_args!(shader_kernels::energy::AlbedoTableArgs, shader_kernels::energy::AlbedoAvgArgs, shader_kernels::energy::FurnaceArgs);
+launch_args!(first_pixel: shader_kernels::render::RenderArgs, shader_kernels::render::GBufferArgs);
+launch_args!(first: shader_kernels::energy::AlbedoTableArgs, shader_kernels::energy::AlbedoAvgArgs, shader_kernels::energy::FurnaceArgs);

@@ -233,6 +233,19 @@ pub fn build_params(gb: &GBuffer, s: &SsrSettings) -> Result<SsrParams> {
     })
 }
 
+/// Ray slots of a frame: pixels x samples per pixel (the ray and hit records' length in records).
+pub(crate) fn ray_slots(p: &SsrParams) -> usize {
+    (p.width * p.height * p.samples_per_pixel) as usize
+}
+
+/// Fail unless `v` holds `stride` values for each of the frame's ray slots; `what` names the
+/// records ("ray", "hit") in the message.
+pub(crate) fn ensure_slot_records(p: &SsrParams, what: &str, v: &[f32], stride: usize) -> Result<()> {
+    let want = ray_slots(p) * stride;
+    anyhow::ensure!(v.len() == want, "{what} records have {} values, expected {want}", v.len());
+    Ok(())
+}
+
 /// One pass's time.
 #[derive(Clone, Debug)]
 pub struct PassTime {
@@ -377,8 +390,8 @@ impl<'a> Runner<'a> {
     /// need of each hitting ray, computed once per ray.
     pub fn ray_hits(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
-        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
-        anyhow::ensure!(rays.len() == slots * RAY_STRIDE, "ray records have {} values, expected {}", rays.len(), slots * RAY_STRIDE);
+        let slots = ray_slots(&p);
+        ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("hits", || {
                 let mut out = vec![0.0f32; slots * HIT_STRIDE];

@@ -4,7 +4,7 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, depth_pyramid_init, pass_args, pyramid_texels, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, depth_pyramid_init, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
@@ -203,7 +203,7 @@ impl Runner<'_> {
         let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
         let n = (tx * ty) as usize;
         let pixels = (p.width * p.height) as usize;
-        let slots = pixels * p.samples_per_pixel as usize;
+        let slots = ray_slots(&p);
         let g = match self.backend {
             Backend::Cpu => return self.sssr_frame_passes_separately(consts, gbuf, depth, color),
             Backend::Gpu(g) => g,
@@ -381,7 +381,7 @@ impl Runner<'_> {
     /// samples + sample), the other slots are zero (no ray).
     pub fn sssr_trace(&mut self, consts: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], list: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
-        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
+        let slots = ray_slots(&p);
         let count = list.len() / LIST_STRIDE;
         if count == 0 {
             return Ok(vec![0.0; slots * RAY_STRIDE]);
@@ -402,8 +402,8 @@ impl Runner<'_> {
     /// [`Runner::ray_hits`] writes them).
     pub fn sssr_hits(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32], list: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
-        let slots = (p.width * p.height * p.samples_per_pixel) as usize;
-        anyhow::ensure!(rays.len() == slots * RAY_STRIDE, "ray records have {} values, expected {}", rays.len(), slots * RAY_STRIDE);
+        let slots = ray_slots(&p);
+        ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
         let count = list.len() / LIST_STRIDE;
         if count == 0 {
             return Ok(vec![0.0; slots * HIT_STRIDE]);
@@ -425,8 +425,7 @@ impl Runner<'_> {
     pub fn sssr_resolve(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], hits: &[f32], pixels: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
-        let slots = n * p.samples_per_pixel as usize;
-        anyhow::ensure!(hits.len() == slots * HIT_STRIDE, "hit records have {} values, expected {}", hits.len(), slots * HIT_STRIDE);
+        ensure_slot_records(&p, "hit", hits, HIT_STRIDE)?;
         if pixels.is_empty() {
             return Ok(vec![0.0; n * OUT_STRIDE]);
         }
@@ -456,8 +455,7 @@ impl Runner<'_> {
     pub fn sssr_hit_distance(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32], hits: &[f32], pixels: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
-        let slots = n * p.samples_per_pixel as usize;
-        anyhow::ensure!(hits.len() == slots * HIT_STRIDE, "hit records have {} values, expected {}", hits.len(), slots * HIT_STRIDE);
+        ensure_slot_records(&p, "hit", hits, HIT_STRIDE)?;
         if pixels.is_empty() {
             return Ok(vec![0.0; n]);
         }
