@@ -22,11 +22,21 @@ use spirv_std::glam::UVec3;
 use spirv_std::arch::workgroup_memory_barrier_with_group_sync;
 use spirv_std::spirv;
 
-/// Depth pyramid, invocation `i` of mip `level` (>= 1, row-major texels): its texel's value.
+/// Depth pyramid, invocation `i` of mip `level`: (its texel's index in `pyr`, value). Level 0
+/// converts the linear depth in place to device depth ([`trace::device_depth`]; invocations
+/// `0..w h` the depth layer, then, where the parameters have one, `w h..2 w h` the far-depth
+/// layer at [`SsrParams::far_depth_offset`]); level >= 1 (row-major texels) is the maximum of
+/// the 2x2 texels below ([`trace::hiz_downsample_texel`]).
 #[inline]
-pub fn hiz_downsample(p: &SsrParams, pyr: &[f32], level: u32, i: u32) -> f32 {
-    let w = mip_size(p.width, level);
-    trace::hiz_downsample_texel(p, pyr, level, i % w, i / w)
+pub fn hiz_downsample(p: &SsrParams, pyr: &[f32], level: u32, i: u32) -> (u32, f32) {
+    if level == 0 {
+        let n = p.width * p.height;
+        let j = if i < n { i } else { p.far_depth_offset + (i - n) };
+        (j, trace::device_depth(p, pyr[j as usize]))
+    } else {
+        let w = mip_size(p.width, level);
+        (trace::p_mip_offset(p, level) + i, trace::hiz_downsample_texel(p, pyr, level, i % w, i / w))
+    }
 }
 
 /// Colour pyramid, invocation `i` of mip `level` (>= 1): its texel's RGB.
@@ -90,7 +100,8 @@ pub fn specular_term(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32
     specular::specular_pixel(p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, out, ob);
 }
 
-/// Min-depth pyramid: writes mip `args[2]` (>= 1) of `pyr` from the mip below it.
+/// Max-device-depth pyramid: converts mip 0 (and the far-depth layer) to device depth for
+/// `args[2]` = 0, writes mip `args[2]` from the mip below it otherwise.
 #[spirv(compute(threads(64)))]
 pub fn ssr_hiz_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -101,8 +112,8 @@ pub fn ssr_hiz_downsample(
     let Some(i) = invocation(id, args) else { return };
     let p = *consts;
     let level = args[2];
-    let v = hiz_downsample(&p, pyr, level, i);
-    pyr[(trace::p_mip_offset(&p, level) + i) as usize] = v;
+    let (j, v) = hiz_downsample(&p, pyr, level, i);
+    pyr[j as usize] = v;
 }
 
 /// Colour pyramid: writes mip `args[2]` (>= 1) of `pyr` (RGB) from the mip below it.

@@ -201,3 +201,52 @@ fn reference_mirror_matches_onscreen_where_rays_stay_on_screen() {
     }
     assert!(full > 100, "{full}");
 }
+
+/// The depth pyramid holds device depth (near / z) and each coarser cell the maximum of the cells
+/// below: bit for bit the device depth of an independently built pyramid of minimum linear depth
+/// (the form the tracers read before the conversion moved into the pyramid), far-depth layer
+/// included, on an odd-sized frame (edge texels of odd mips).
+#[test]
+fn depth_pyramid_is_device_depth_of_the_min_linear_pyramid() {
+    use host::ssr::pipeline::{build_params, pyramid_texels, Runner};
+    use shader_core::ssr::params::mip_size;
+    use shader_core::ssr::trace::{device_depth, p_mip_offset};
+    for name in ["floor", "hallway", "thin"] {
+        let g = scene(name).unwrap().render_gbuffer(67, 45, 0);
+        let p = build_params(&g, &host::ssr::SsrSettings::default()).unwrap();
+        assert!(p.far_depth_offset != 0 && p.mip_count > 4, "{name}: the test wants a far layer and several mips");
+        let pyr = Runner::new(&host::Backend::Cpu).depth_pyramid(&p, &g.depth_layers()).unwrap();
+        let (w, h) = (p.width, p.height);
+        // Oracle: min of linear depth, level by level, then near / z with the native division.
+        let mut lin = vec![0.0f32; pyramid_texels(w, h)];
+        lin[..(w * h) as usize].copy_from_slice(&g.depth);
+        for l in 1..p.mip_count {
+            let (pw, ph, lw, lh) = (mip_size(w, l - 1), mip_size(h, l - 1), mip_size(w, l), mip_size(h, l));
+            let (src, dst) = (p_mip_offset(&p, l - 1) as usize, p_mip_offset(&p, l) as usize);
+            for y in 0..lh {
+                for x in 0..lw {
+                    let mut m = f32::INFINITY;
+                    for (cx, cy) in [(2 * x, 2 * y), (2 * x + 1, 2 * y), (2 * x, 2 * y + 1), (2 * x + 1, 2 * y + 1)] {
+                        if cx < pw && cy < ph {
+                            m = m.min(lin[src + (cy * pw + cx) as usize]);
+                        }
+                    }
+                    lin[dst + (y * lw + x) as usize] = m;
+                }
+            }
+        }
+        let want: Vec<f32> = lin.iter().chain(g.depth_far.as_ref().unwrap()).map(|z| p.near / *z).collect();
+        assert_eq!(pyr.len(), want.len(), "{name}");
+        for (i, (a, b)) in pyr.iter().zip(&want).enumerate() {
+            assert_eq!(a.to_bits(), b.to_bits(), "{name}: texel {i}: {a} vs {b}");
+            assert_eq!(a.to_bits(), device_depth(&p, if i < lin.len() { lin[i] } else { g.depth_far.as_ref().unwrap()[i - lin.len()] }).to_bits());
+        }
+        // Depth <= 0 or NaN has no device depth the max pyramid could order: refused by name.
+        for bad in [0.0f32, -1.0, f32::NAN] {
+            let mut d = g.depth_layers();
+            d[5] = bad;
+            let e = Runner::new(&host::Backend::Cpu).depth_pyramid(&p, &d).unwrap_err().to_string();
+            assert!(e.contains("depth must be > 0") && e.contains("pixel (5, 0)"), "{name}: {e}");
+        }
+    }
+}

@@ -19,7 +19,7 @@ use shader_kernels::ssr as kern;
 /// How rays are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TraceMode {
-    /// HDRP's hierarchical traversal of the min-depth pyramid.
+    /// HDRP's hierarchical traversal of the depth pyramid (max device depth per cell).
     HiZ,
     /// A linear march with this many steps.
     Linear(u32),
@@ -159,26 +159,57 @@ pub fn pyramid_texels(w: u32, h: u32) -> usize {
     (0..mip_levels(w, h)).map(|l| (mip_size(w, l) * mip_size(h, l)) as usize).sum()
 }
 
-/// The depth-pyramid buffer before its mips are built: level 0 = the first width x height values
-/// of `depth`, and, where `p` has a far-depth layer, the next width x height values at
-/// [`SsrParams::far_depth_offset`] (after the last mip).
+/// The depth-pyramid buffer before its passes run: level 0 = the first width x height values of
+/// `depth` (linear depth, > 0, +inf for the sky) and, where `p` has a far-depth layer, the next
+/// width x height values at [`SsrParams::far_depth_offset`] (after the last mip). The first
+/// pass converts both to device depth ([`depth_pyramid_passes`]). Depths that are NaN or <= 0
+/// are refused (`GBuffer::validate` refuses them too): the pyramid of maxima of device depth
+/// equals the device depth of the minimum linear depth only where near / z decreases with z.
 pub fn depth_pyramid_init(p: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
     let n = (p.width * p.height) as usize;
     let total = pyramid_texels(p.width, p.height);
     let far = p.far_depth_offset as usize;
     if far == 0 {
         anyhow::ensure!(depth.len() == n || depth.len() == 2 * n, "depth has {} values, expected {n}", depth.len());
-        let mut pyr = vec![0.0f32; total];
-        pyr[..n].copy_from_slice(&depth[..n]);
-        Ok(pyr)
     } else {
         anyhow::ensure!(far == total, "far-depth offset {far} is not the pyramid's size {total}");
         anyhow::ensure!(depth.len() == 2 * n, "depth has {} values, expected {} (depth and far depth)", depth.len(), 2 * n);
-        let mut pyr = vec![0.0f32; total + n];
-        pyr[..n].copy_from_slice(&depth[..n]);
-        pyr[total..].copy_from_slice(&depth[n..]);
-        Ok(pyr)
     }
+    if let Some(i) = depth[..n].iter().position(|z| !(*z > 0.0)) {
+        anyhow::bail!("depth must be > 0 (linear view depth, +inf for the sky), got {} at pixel ({}, {})", depth[i], i % p.width as usize, i / p.width as usize);
+    }
+    let mut pyr = vec![0.0f32; if far == 0 { total } else { total + n }];
+    pyr[..n].copy_from_slice(&depth[..n]);
+    if far != 0 {
+        pyr[total..].copy_from_slice(&depth[n..]);
+    }
+    Ok(pyr)
+}
+
+/// The CPU launcher of a pass that updates `buf` in place: on all cores, `f(buf, i)` computes
+/// invocation `i`'s (index, value), written once its block of invocations is computed (as on
+/// the GPU, an invocation reads only values no other invocation of the pass writes).
+fn update_in_place(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -> (u32, f32) + Sync) {
+    const BLOCK: usize = 1 << 18;
+    let mut out = Vec::with_capacity(BLOCK.min(n));
+    for start in (0..n).step_by(BLOCK) {
+        let end = (start + BLOCK).min(n);
+        let src = &*buf;
+        (start..end).into_par_iter().map(|i| f(src, i as u32)).collect_into_vec(&mut out);
+        for &(j, v) in &out {
+            buf[j as usize] = v;
+        }
+    }
+}
+
+/// The depth-pyramid passes as (level, invocations): level 0 converts the depth (and far-depth)
+/// layer to device depth, each further level is the maximum of 2x2 texels of the one below
+/// (`shader_kernels::ssr::hiz_downsample`).
+pub fn depth_pyramid_passes(p: &SsrParams) -> Vec<(u32, usize)> {
+    let layers = if p.far_depth_offset != 0 { 2 } else { 1 };
+    let mut v = vec![(0, (p.width * p.height) as usize * layers)];
+    v.extend((1..p.mip_count).map(|l| (l, (mip_size(p.width, l) * mip_size(p.height, l)) as usize)));
+    v
 }
 
 /// The parameters for `gb` and `s` (pipeline-specific values are set by the caller).
@@ -315,25 +346,17 @@ impl<'a> Runner<'a> {
         r
     }
 
-    /// The min-linear-depth pyramid of `depth` (level 0 = depth), all levels packed, followed by
+    /// The max-device-depth pyramid of `depth` (level 0 = its device depth), all levels packed, followed by
     /// the far-depth layer where the parameters have one (`depth` is then
     /// [`GBuffer::depth_layers`]: the depth, then the far depth).
     pub fn depth_pyramid(&mut self, consts: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let mut pyr = depth_pyramid_init(&p, depth)?;
         let total = pyr.len();
-        for level in 1..p.mip_count {
-            let (w, h) = (mip_size(p.width, level), mip_size(p.height, level));
-            let off = trace::p_mip_offset(&p, level) as usize;
-            let n = (w * h) as usize;
+        for (level, n) in depth_pyramid_passes(&p) {
             match self.backend {
                 Backend::Cpu => {
-                    self.cpu_timed("depth pyramid", || {
-                        let (src, dst) = pyr.split_at_mut(off);
-                        dst[..n].par_iter_mut().enumerate().for_each(|(i, o)| {
-                            *o = kern::hiz_downsample(&p, src, level, i as u32);
-                        });
-                    });
+                    self.cpu_timed("depth pyramid", || update_in_place(&mut pyr, n, |pyr, i| kern::hiz_downsample(&p, pyr, level, i)));
                 }
                 Backend::Gpu(_) => {
                     pyr = self.gpu_pass("depth pyramid", "ssr::ssr_hiz_downsample", n as u32, &[level], consts, &[], total, Some(&pyr))?;

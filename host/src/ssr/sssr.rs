@@ -4,7 +4,7 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, depth_pyramid_init, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
@@ -215,9 +215,10 @@ impl Runner<'_> {
         };
         let indirect = |buffer: usize| ChainDispatch::Indirect { buffer, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 };
         // Argument records: per pyramid level, tiles, the two scans.
+        let depth_levels = depth_pyramid_passes(&p);
         let levels: Vec<(u32, usize)> =
             (1..p.mip_count).map(|l| (l, (mip_size(p.width, l) * mip_size(p.height, l)) as usize)).collect();
-        let level_args: Vec<Vec<u32>> = levels.iter().map(|&(l, cnt)| args_for(cnt, &[l])).collect();
+        let level_args: Vec<Vec<u32>> = depth_levels.iter().chain(&levels).map(|&(l, cnt)| args_for(cnt, &[l])).collect();
         let tile_args = args_for(n, &[]);
         let ray_scan_args = scan_pass_args(n, stochastic::TILE_RAYS);
         let pixel_scan_args = scan_pass_args(n, stochastic::TILE_ELIGIBLE);
@@ -255,12 +256,13 @@ impl Runner<'_> {
         let scan_entry = ScanKernel::Auto.entry(g)?;
         let mut passes = Vec::new();
         let mut names = Vec::new();
-        for (k, &(_, cnt)) in levels.iter().enumerate() {
+        for (k, &(_, cnt)) in depth_levels.iter().enumerate() {
             passes.push(ChainPass { entry: "ssr::ssr_hiz_downsample", reads: vec![first_level_arg + k, consts_b], writes: vec![depth_b], dispatch: direct(cnt) });
             names.push("depth pyramid");
         }
         for (k, &(_, cnt)) in levels.iter().enumerate() {
-            passes.push(ChainPass { entry: "ssr::ssr_color_downsample", reads: vec![first_level_arg + k, consts_b], writes: vec![color_b], dispatch: direct(cnt) });
+            let arg = first_level_arg + depth_levels.len() + k;
+            passes.push(ChainPass { entry: "ssr::ssr_color_downsample", reads: vec![arg, consts_b], writes: vec![color_b], dispatch: direct(cnt) });
             names.push("color pyramid");
         }
         passes.push(ChainPass { entry: "ssr::sssr_classify", reads: vec![tile_b, consts_b, gbuf_b], writes: vec![tiles_b], dispatch: direct(n) });
@@ -565,7 +567,7 @@ fn chain_out(size: usize, init: Option<&[u8]>) -> ChainBuffer<'_> {
 /// What [`Runner::sssr_frame_passes`] returns.
 #[derive(Clone, Debug)]
 pub struct FramePasses {
-    /// Min-depth pyramid, all levels packed.
+    /// Max-device-depth pyramid, all levels packed.
     pub depth_pyramid: Vec<f32>,
     /// Colour pyramid (RGB), all levels packed.
     pub color_pyramid: Vec<f32>,

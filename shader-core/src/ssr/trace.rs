@@ -3,8 +3,10 @@
 //! rules (the test oracle for Hi-Z).
 //!
 //! A ray is traced in (screen x, screen y, device depth d = near / z) where d varies linearly
-//! along the projected ray. The depth buffer stores linear depth; its pyramid stores the minimum
-//! linear depth of each cell (the closest surface, i.e. HDRP's max device depth). Every surface is
+//! along the projected ray. The depth buffer stores linear depth; its pyramid stores device depth,
+//! converted once when it is built ([`device_depth`] of every texel), and each coarser cell the
+//! maximum device depth of the cells it covers (the closest surface, HDRP's pyramid), so the
+//! tracers read it without a division. Every surface is
 //! given a thickness: it occupies d in [d_s * thickness_scale + thickness_bias, d_s] (HDRP:
 //! `_SsrThicknessScale = 1 / (1 + thickness)`, bias 0 for an infinite far plane), so a point is
 //! "inside" a surface when it lies behind it by at most `thickness` times its linear depth.
@@ -214,12 +216,13 @@ pub fn screen_ray(p: &SsrParams, s: &Surface, r: Vec3) -> (Vec3, Vec3) {
     (s.origin, dir)
 }
 
-/// Device depth of the depth pyramid at `level`, cell (cx, cy) (pyramid of linear depth; sky = 0).
+/// Device depth of the depth pyramid at `level`, cell (cx, cy) (the pyramid holds device depth;
+/// sky = 0).
 #[inline]
 pub fn pyramid_depth(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32) -> f32 {
     let w = mip_size(p.width, level);
     let base = p_mip_offset(p, level);
-    device_depth(p, pyr[(base + cy * w + cx) as usize])
+    pyr[(base + cy * w + cx) as usize]
 }
 
 /// Half-width, in pixels, of the square around a pixel centre over which a G-buffer's far depth
@@ -245,7 +248,7 @@ pub const FAR_DEPTH_GRID: u32 = 5;
 #[inline]
 pub fn slab_base(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32, floor_d: f32) -> f32 {
     if level == 0 && p.far_depth_offset != 0 {
-        let far_d = device_depth(p, pyr[(p.far_depth_offset + cy * p.width + cx) as usize]);
+        let far_d = pyr[(p.far_depth_offset + cy * p.width + cx) as usize];
         minf(far_d, floor_d * p.min_thickness_scale)
     } else {
         floor_d * p.thickness_scale + p.thickness_bias
@@ -294,7 +297,7 @@ fn nudge(x: f32, sign: f32) -> f32 {
 
 use spirv_std::num_traits::Float;
 
-/// HDRP's hierarchical ray march through the min-linear-depth pyramid (`ScreenSpaceReflections.compute`,
+/// HDRP's hierarchical ray march through the max-device-depth pyramid (`ScreenSpaceReflections.compute`,
 /// `ScreenSpaceReflectionsTracing`): step to the cell wall and climb while the ray stays in
 /// front of the cell's closest surface (in either direction of depth; HDRP always descends for
 /// rays towards the eye), descend where it reaches it or is behind it; a hit is the first mip-0 cell
@@ -310,6 +313,9 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
     let t_max = ray_t_max(p, o, rcp);
     let mut t = ray_t_start(rcp);
     let mut mip: u32 = 0;
+    // Offset of mip `mip` in the packed pyramid ([`p_mip_offset`]), kept up to date as the ray
+    // climbs and descends instead of summed again at every step.
+    let mut base: u32 = 0;
     let mut iter: u32 = 0;
     let mut hit = false;
     let mut miss = false;
@@ -325,7 +331,7 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
         let cy = floor_index(pos.y, p.height - 1) >> mip;
         let cx = if cx < w { cx } else { w - 1 };
         let cy = if cy < h { cy } else { h - 1 };
-        let floor_d = pyramid_depth(p, pyr, mip, cx, cy);
+        let floor_d = pyr[(base + cy * w + cx) as usize];
         let base_d = slab_base(p, pyr, mip, cx, cy, floor_d);
         let wall_x = ((cx + step_x) << mip) as f32;
         let wall_y = ((cy + step_y) << mip) as f32;
@@ -358,9 +364,13 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
         // the eye (`rayTowardsEye`): such rays then march one texel per iteration and run out of
         // iterations at 1080p (tests/tests/ssr_1080p.rs).
         if hit_floor || below_floor {
-            mip = if mip > 0 { mip - 1 } else { 0 };
-        } else {
-            mip = if mip < max_mip { mip + 1 } else { max_mip };
+            if mip > 0 {
+                mip -= 1;
+                base -= mip_size(p.width, mip) * mip_size(p.height, mip);
+            }
+        } else if mip < max_mip {
+            base += w * h;
+            mip += 1;
         }
         iter += 1;
     }
@@ -554,9 +564,11 @@ pub fn hdrp_trace_pixel(p: &SsrParams, gbuf: &[f32], pyr: &[f32], x: u32, y: u32
     trace_and_store(p, gbuf, pyr, &s, x, y, r, pdf, p.trace_mode, p.linear_steps, out, ob);
 }
 
-/// One texel of mip `level` (>= 1) of the min-depth pyramid: the minimum of the (up to) 2x2
-/// texels of mip `level - 1` it covers (texels past the edge of an odd-sized mip are ignored,
-/// so every cell bounds exactly the pixels [x 2^level, (x + 1) 2^level)).
+/// One texel of mip `level` (>= 1) of the max-device-depth pyramid: the maximum of the (up to)
+/// 2x2 texels of mip `level - 1` it covers (texels past the edge of an odd-sized mip are ignored,
+/// so every cell bounds exactly the pixels [x 2^level, (x + 1) 2^level)). Since the correctly
+/// rounded near / z does not increase with z, this is bit for bit the device depth of the cell's
+/// minimum linear depth.
 pub fn hiz_downsample_texel(p: &SsrParams, pyr: &[f32], level: u32, x: u32, y: u32) -> f32 {
     let pw = mip_size(p.width, level - 1);
     let ph = mip_size(p.height, level - 1);
@@ -569,5 +581,5 @@ pub fn hiz_downsample_texel(p: &SsrParams, pyr: &[f32], level: u32, x: u32, y: u
     let b = pyr[(base + y0 * pw + x1) as usize];
     let c = pyr[(base + y1 * pw + x0) as usize];
     let d = pyr[(base + y1 * pw + x1) as usize];
-    minf(minf(a, b), minf(c, d))
+    maxf(maxf(a, b), maxf(c, d))
 }
