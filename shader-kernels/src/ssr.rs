@@ -46,36 +46,16 @@ pub fn color_downsample(p: &SsrParams, pyr: &[f32], level: u32, i: u32) -> Vec3 
     resolve::color_downsample_texel(p, pyr, level, i % w, i / w)
 }
 
-/// HDRP tracing, invocation `i` (pixel `i`, row-major): its ray record at `rays[ob..]`.
-#[inline]
-pub fn hdrp_trace(p: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], i: u32, rays: &mut [f32], ob: usize) {
-    trace::hdrp_trace_pixel(p, gbuf, depth_pyr, i % p.width, i / p.width, rays, ob);
-}
-
-/// `SSR_APPROX`, invocation `i` (pixel `i`): its reflection at `out[ob..]`.
-#[inline]
-pub fn hdrp_reproject(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], i: u32, out: &mut [f32], ob: usize) {
-    resolve::hdrp_reproject_approx(p, gbuf, color_pyr, rays, i % p.width, i / p.width, out, ob);
-}
-
-/// HDRP's neighbourhood resolve of shape `shape`, invocation `i` (pixel `i`): its reflection at
-/// `out[ob..]`.
-#[inline]
-#[allow(clippy::too_many_arguments)]
-pub fn hdrp_resolve(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], hits: &[f32], shape: u32, i: u32, out: &mut [f32], ob: usize) {
-    resolve::hdrp_resolve_neighborhood(p, gbuf, color_pyr, rays, hits, shape, i % p.width, i / p.width, out, ob);
-}
-
 /// Tile classification, invocation `i` (tile `i`, row-major 8x8 tiles): its record (class, rays,
-/// eligible pixels, 0) as u32 bits at `tiles[ob..]`.
+/// eligible pixels, valid pixels) as u32 bits at `tiles[ob..]`.
 #[inline]
 pub fn classify(p: &SsrParams, gbuf: &[f32], i: u32, tiles: &mut [f32], ob: usize) {
     let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
-    let (class, rays, eligible) = stochastic::classify_tile(p, gbuf, i % tiles_x, i / tiles_x);
+    let (class, rays, eligible, valid) = stochastic::classify_tile(p, gbuf, i % tiles_x, i / tiles_x);
     tiles[ob] = f32::from_bits(class);
     tiles[ob + 1] = f32::from_bits(rays);
     tiles[ob + 2] = f32::from_bits(eligible);
-    tiles[ob + 3] = f32::from_bits(0);
+    tiles[ob + 3] = f32::from_bits(valid);
 }
 
 /// List emission, invocation `i` (tile `i`): its rays and eligible pixels into the two lists.
@@ -84,6 +64,13 @@ pub fn classify(p: &SsrParams, gbuf: &[f32], i: u32, tiles: &mut [f32], ob: usiz
 pub fn emit(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets: &[f32], i: u32, list: &mut [f32], pixels: &mut [f32]) {
     let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
     stochastic::emit_tile(p, gbuf, ray_offsets, pixel_offsets, i % tiles_x, i / tiles_x, list, pixels);
+}
+
+/// HDRP's pixel list, invocation `i` (tile `i`): the tile's valid pixels into the list.
+#[inline]
+pub fn hdrp_emit(p: &SsrParams, gbuf: &[f32], offsets: &[f32], i: u32, pixels: &mut [f32]) {
+    let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
+    stochastic::emit_valid_tile(p, gbuf, offsets, i % tiles_x, i / tiles_x, pixels);
 }
 
 /// Temporal accumulation, invocation `i` (pixel `i`): its history texel at `out[ob..]`.
@@ -134,7 +121,25 @@ pub fn ssr_color_downsample(
     pyr[b + 2] = c.z;
 }
 
-/// HDRP tracing: one mirror ray per pixel, Hi-Z / linear / brute force per `consts`.
+/// HDRP's pixel list: each tile writes its pixels with a valid surface into the list from its
+/// offset (the scan of the tiles' `stochastic::TILE_VALID` column).
+#[spirv(compute(threads(64)))]
+pub fn ssr_hdrp_emit(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] offsets: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [f32],
+) {
+    let Some(i) = invocation(id, args) else { return };
+    let p = *consts;
+    hdrp_emit(&p, gbuf, offsets, i, pixels);
+}
+
+/// HDRP tracing over the valid-pixel list: one mirror ray (or, with `FLAG_STOCHASTIC`, one GGX
+/// ray) per listed pixel, Hi-Z / linear / brute force per `consts`; `rays` zero-initialized
+/// (pixels without a surface to trace keep an invalid record).
 #[spirv(compute(threads(64)))]
 pub fn ssr_hdrp_trace(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -142,15 +147,17 @@ pub fn ssr_hdrp_trace(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    hdrp_trace(&p, gbuf, depth_pyr, i, rays, (i as usize) * RAY_STRIDE);
+    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, rays, (q as usize) * RAY_STRIDE);
 }
 
 /// Hit records (`shader_core::ssr::hits`): one invocation per ray slot (pixels x samples per
-/// pixel), for the neighbourhood resolves of both pipelines.
+/// pixel), every slot; the oracle of the list passes' records.
 #[spirv(compute(threads(64)))]
 pub fn ssr_ray_hits(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -165,8 +172,28 @@ pub fn ssr_ray_hits(
     hits::hit_record_slot(&p, gbuf, rays, i, hits, (i as usize) * HIT_STRIDE);
 }
 
-/// HDRP reprojection, `SSR_APPROX`: the pixel's own ray only.
+/// HDRP's hit records over the valid-pixel list (one ray per pixel: the slot is the pixel);
+/// `hits` zero-initialized, as every slot without a hitting ray is.
 #[spirv(compute(threads(64)))]
+pub fn ssr_hdrp_hits(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
+) {
+    let Some(k) = invocation(id, args) else { return };
+    let p = *consts;
+    let (q, _, _) = stochastic::list_pixel(&p, pixels, k);
+    hits::hit_record_slot(&p, gbuf, rays, q, hits, (q as usize) * HIT_STRIDE);
+}
+
+/// HDRP reprojection, `SSR_APPROX`, over the valid-pixel list: the pixel's own ray only (`out`
+/// zero-initialized: every other pixel reflects nothing).
+#[spirv(compute(threads(64)))]
+#[allow(clippy::too_many_arguments)]
 pub fn ssr_hdrp_reproject(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
@@ -174,18 +201,21 @@ pub fn ssr_hdrp_reproject(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] pixels: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    hdrp_reproject(&p, gbuf, color_pyr, rays, i, out, (i as usize) * OUT_STRIDE);
+    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+    resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, out, (q as usize) * OUT_STRIDE);
 }
 
 /// HDRP's neighbourhood resolve (`args[2]` = shape: `resolve::NEIGHBORHOOD_3X3` or
-/// `NEIGHBORHOOD_CROSS5`) from the hit records of [`ssr_ray_hits`]. Its own entry point, apart
-/// from `SSR_APPROX`'s: on a device that predicates branches (llvmpipe) one kernel holding both
-/// would run both.
+/// `NEIGHBORHOOD_CROSS5`) over the valid-pixel list, from the hit records of [`ssr_hdrp_hits`]
+/// (`out` zero-initialized). Its own entry point, apart from `SSR_APPROX`'s: on a device that
+/// predicates branches (llvmpipe) one kernel holding both would run both.
 #[spirv(compute(threads(64)))]
+#[allow(clippy::too_many_arguments)]
 pub fn ssr_hdrp_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
@@ -194,15 +224,17 @@ pub fn ssr_hdrp_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    hdrp_resolve(&p, gbuf, color_pyr, rays, hits, args[2], i, out, (i as usize) * OUT_STRIDE);
+    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, args[2], x, y, out, (q as usize) * OUT_STRIDE);
 }
 
-/// Stochastic SSR, tile classification: one invocation per 8x8 tile writes (class, rays,
-/// eligible pixels, 0) as u32 bits.
+/// Tile classification (both pipelines): one invocation per 8x8 tile writes (class, rays,
+/// eligible pixels, valid pixels) as u32 bits.
 #[spirv(compute(threads(64)))]
 pub fn sssr_classify(
     #[spirv(global_invocation_id)] id: UVec3,

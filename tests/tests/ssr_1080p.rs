@@ -123,7 +123,9 @@ fn hdrp_trace_matches_gpu_at_1080p() {
     let mut q = Runner::new(gpu);
     let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
     assert_bits_equal("depth pyramid 1080p", 1, &dp, &q.depth_pyramid(&consts, &g.depth_layers()).unwrap());
-    let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
-    let rg = q.hdrp_trace(&consts, &gbuf, &dp).unwrap();
+    let pixels = c.hdrp_pixels(&consts, &gbuf).unwrap();
+    assert_bits_equal("HDRP pixel list 1080p", 1, &pixels, &q.hdrp_pixels(&consts, &gbuf).unwrap());
+    let rc = c.hdrp_trace(&consts, &gbuf, &dp, &pixels).unwrap();
+    let rg = q.hdrp_trace(&consts, &gbuf, &dp, &pixels).unwrap();
     assert_bits_equal("HDRP trace 1080p", RAY_STRIDE, &rc, &rg);
 }

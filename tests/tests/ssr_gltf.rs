@@ -76,18 +76,20 @@ fn ssr_passes_match_gpu_bit_for_bit_on_gltf_scenes() {
         assert_bits_equal(&format!("{name} depth pyramid"), 1, &dp, &q.depth_pyramid(&consts, &g.depth_layers()).unwrap());
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
         assert_bits_equal(&format!("{name} colour pyramid"), 3, &cp, &q.color_pyramid(&consts, &g.color).unwrap());
+        let pixels = c.hdrp_pixels(&consts, &gbuf).unwrap();
+        assert_bits_equal(&format!("{name} HDRP pixel list"), 1, &pixels, &q.hdrp_pixels(&consts, &gbuf).unwrap());
         let mut hits = 0;
         for (mode, steps) in [(TRACE_HIZ, 0), (TRACE_LINEAR, 32), (TRACE_BRUTE_FORCE, 0)] {
             consts.trace_mode = mode;
             consts.linear_steps = steps.max(1);
-            let rc = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
-            assert_bits_equal(&format!("{name} HDRP trace mode {mode}"), RAY_STRIDE, &rc, &q.hdrp_trace(&consts, &gbuf, &dp).unwrap());
+            let rc = c.hdrp_trace(&consts, &gbuf, &dp, &pixels).unwrap();
+            assert_bits_equal(&format!("{name} HDRP trace mode {mode}"), RAY_STRIDE, &rc, &q.hdrp_trace(&consts, &gbuf, &dp, &pixels).unwrap());
             let hc = c.ray_hits(&consts, &gbuf, &rc).unwrap();
             assert_bits_equal(&format!("{name} HDRP hit records mode {mode}"), HIT_STRIDE, &hc, &q.ray_hits(&consts, &gbuf, &rc).unwrap());
             hits += rc.chunks_exact(RAY_STRIDE).filter(|r| r[3].to_bits() & shader_core::ssr::trace::info::HIT != 0).count();
             for m in [HdrpResolve::Approx, HdrpResolve::Block3x3, HdrpResolve::Cross5] {
-                let oc = c.hdrp_reproject(&consts, &gbuf, &cp, &rc, m).unwrap();
-                assert_bits_equal(&format!("{name} HDRP resolve {}", m.label()), 4, &oc, &q.hdrp_reproject(&consts, &gbuf, &cp, &rc, m).unwrap());
+                let oc = c.hdrp_reproject(&consts, &gbuf, &cp, &rc, &pixels, m).unwrap();
+                assert_bits_equal(&format!("{name} HDRP resolve {}", m.label()), 4, &oc, &q.hdrp_reproject(&consts, &gbuf, &cp, &rc, &pixels, m).unwrap());
             }
         }
         assert!(hits > 100, "{name}: only {hits} hits over three tracers: the comparison would prove little");

@@ -199,8 +199,9 @@ fn neighbourhood_resolves_equal_their_per_pair_form_to_the_bit() {
         let p = consts;
         let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();
         let cp = c.color_pyramid(&consts, &g.color).unwrap();
-        let rays = c.hdrp_trace(&consts, &gbuf, &dp).unwrap();
-        let out = c.hdrp_reproject(&consts, &gbuf, &cp, &rays, HdrpResolve::Block3x3).unwrap();
+        let pixels = c.hdrp_pixels(&consts, &gbuf).unwrap();
+        let rays = c.hdrp_trace(&consts, &gbuf, &dp, &pixels).unwrap();
+        let out = c.hdrp_reproject(&consts, &gbuf, &cp, &rays, &pixels, HdrpResolve::Block3x3).unwrap();
         let lit = assert_same(&format!("{name} HDRP 3x3"), &out, |x, y| hdrp_pixel_per_pair(&p, &gbuf, &cp, &rays, x, y));
         assert!(lit > W * H / 10, "{name} HDRP: only {lit} pixels reflect anything");
     }

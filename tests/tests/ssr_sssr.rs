@@ -12,7 +12,7 @@ use host::ssr::sssr::{expected_list, run_sssr, sssr_params, Reprojection, ScanKe
 use host::ssr::{render_reference, scene, SsrSettings};
 use host::Backend;
 use shader_core::ssr::resolve::HIT_STRIDE;
-use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE_ELIGIBLE, TILE_RAYS, TILE_SKIP, TILE_STRIDE};
+use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE_ELIGIBLE, TILE_RAYS, TILE_SKIP, TILE_STRIDE, TILE_VALID};
 use shader_core::ssr::trace::{load_surface, RAY_STRIDE};
 use shader_core::vector::Vec3;
 
@@ -234,10 +234,11 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
                 state ^= state << 17;
                 let rays = if state % 5 == 0 { 0 } else { (state >> 40) as u32 % 257 };
                 let eligible = if state % 7 == 0 { 0 } else { (state >> 20) as u32 % 65 };
-                [f32::from_bits(1), f32::from_bits(rays), f32::from_bits(eligible), 0.0]
+                let valid = if state % 5 == 0 { 0 } else { (state >> 13) as u32 % 65 };
+                [f32::from_bits(1), f32::from_bits(rays), f32::from_bits(eligible), f32::from_bits(valid)]
             })
             .collect();
-        for column in [TILE_RAYS, TILE_ELIGIBLE] {
+        for column in [TILE_RAYS, TILE_ELIGIBLE, TILE_VALID] {
             let (oc, rc) = Runner::new(&Backend::Cpu).sssr_scan(&tiles, column).unwrap();
             for &kernel in &kernels {
                 let (og, rg) = Runner::new(gpu).sssr_scan_with(&tiles, column, kernel).unwrap();

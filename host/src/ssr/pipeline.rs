@@ -12,6 +12,7 @@ use shader_core::ssr::params::{self, mip_size, SsrParams};
 use shader_core::ssr::hits;
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular::SPECULAR_STRIDE;
+use shader_core::ssr::stochastic;
 use shader_core::ssr::trace::{self, RAY_STRIDE};
 use std::time::Instant;
 use shader_kernels::ssr as kern;
@@ -202,6 +203,25 @@ fn update_in_place(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -> (u32, f
     }
 }
 
+/// The CPU launcher of a pass over a compacted list of `entries`: on all cores, `f(k, record)`
+/// computes entry `k`'s record (`S` floats) and returns the slot it belongs to; each record is
+/// stored at its slot of a zeroed buffer of `slots` records, as the GPU kernel writes it.
+pub(crate) fn scatter<const S: usize>(entries: usize, slots: usize, f: impl Fn(u32, &mut [f32]) -> usize + Sync) -> Vec<f32> {
+    let recs: Vec<(usize, [f32; S])> = (0..entries as u32)
+        .into_par_iter()
+        .map(|k| {
+            let mut r = [0.0f32; S];
+            let slot = f(k, &mut r);
+            (slot, r)
+        })
+        .collect();
+    let mut out = vec![0.0f32; slots * S];
+    for (slot, r) in recs {
+        out[slot * S..(slot + 1) * S].copy_from_slice(&r);
+    }
+    out
+}
+
 /// The depth-pyramid passes as (level, invocations): level 0 converts the depth (and far-depth)
 /// layer to device depth, each further level is the maximum of 2x2 texels of the one below
 /// (`shader_kernels::ssr::hiz_downsample`).
@@ -289,6 +309,18 @@ pub struct PassTime {
 pub struct Runner<'a> {
     pub backend: &'a Backend,
     pub times: Vec<PassTime>,
+}
+
+/// HDRP's passes over a pixel list ([`Runner::hdrp_pixels`]): one ray per pixel (its slot is
+/// the pixel), and a list of at most every pixel, each inside the frame.
+fn ensure_hdrp_pixels(p: &SsrParams, pixels: &[f32]) -> Result<()> {
+    anyhow::ensure!(p.samples_per_pixel == 1, "HDRP traces one ray per pixel, the parameters ask for {}", p.samples_per_pixel);
+    let n = p.width * p.height;
+    anyhow::ensure!(pixels.len() <= n as usize, "the pixel list has {} entries for a {}x{} frame", pixels.len(), p.width, p.height);
+    if let Some(k) = pixels.iter().position(|q| q.to_bits() >= n) {
+        anyhow::bail!("pixel list entry {k} names pixel {} outside the {}x{} frame", pixels[k].to_bits(), p.width, p.height);
+    }
+    Ok(())
 }
 
 fn bytes(v: &[f32]) -> &[u8] {
@@ -394,17 +426,55 @@ impl<'a> Runner<'a> {
         Ok(pyr)
     }
 
-    /// HDRP tracing pass: a ray record per pixel.
-    pub fn hdrp_trace(&mut self, consts: &SsrParams, gbuf: &[f32], depth_pyr: &[f32]) -> Result<Vec<f32>> {
+    /// HDRP's valid-pixel list: tile classification, the scan of its `TILE_VALID` column and
+    /// the list of pixels with a valid surface (tile order, row order within a tile), which
+    /// HDRP's trace, hit-record and resolve passes are launched over (the other pixels trace
+    /// no ray and reflect nothing).
+    pub fn hdrp_pixels(&mut self, consts: &SsrParams, gbuf: &[f32]) -> Result<Vec<f32>> {
+        let tiles = self.sssr_classify(consts, gbuf)?;
+        let (offsets, _) = self.sssr_scan(&tiles, stochastic::TILE_VALID)?;
+        self.hdrp_emit(consts, gbuf, &offsets)
+    }
+
+    /// HDRP's pixel list from the tile offsets `offsets` (n + 1 words, the scan of `TILE_VALID`).
+    pub fn hdrp_emit(&mut self, consts: &SsrParams, gbuf: &[f32], offsets: &[f32]) -> Result<Vec<f32>> {
+        let p = *consts;
+        let n = (p.width.div_ceil(stochastic::TILE) * p.height.div_ceil(stochastic::TILE)) as usize;
+        anyhow::ensure!(offsets.len() == n + 1, "offsets have {} words, expected {} ({n} tiles and the total)", offsets.len(), n + 1);
+        let count = offsets[n].to_bits() as usize;
+        anyhow::ensure!(count <= (p.width * p.height) as usize, "the scan counts {count} valid pixels in a {}x{} frame", p.width, p.height);
+        let mut pixels = match self.backend {
+            Backend::Cpu => self.cpu_timed("compact", || {
+                let mut pixels = vec![0.0f32; count.max(1)];
+                for t in 0..n as u32 {
+                    kern::hdrp_emit(&p, gbuf, offsets, t, &mut pixels);
+                }
+                pixels
+            }),
+            Backend::Gpu(_) => self.gpu_pass("compact", "ssr::ssr_hdrp_emit", n as u32, &[], consts, &[gbuf, offsets], count.max(1), None)?,
+        };
+        pixels.truncate(count);
+        Ok(pixels)
+    }
+
+    /// HDRP tracing pass over the pixel list `pixels` ([`Runner::hdrp_pixels`]): a ray record
+    /// per pixel, zero (no ray) for the pixels not in the list.
+    pub fn hdrp_trace(&mut self, consts: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], pixels: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
+        ensure_hdrp_pixels(&p, pixels)?;
+        if pixels.is_empty() {
+            return Ok(vec![0.0; n * RAY_STRIDE]);
+        }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("trace", || {
-                let mut out = vec![0.0f32; n * RAY_STRIDE];
-                out.par_chunks_mut(RAY_STRIDE).enumerate().for_each(|(i, o)| kern::hdrp_trace(&p, gbuf, depth_pyr, i as u32, o, 0));
-                out
+                scatter::<RAY_STRIDE>(pixels.len(), n, |k, o| {
+                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+                    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, o, 0);
+                    q as usize
+                })
             })),
-            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", n as u32, &[], consts, &[gbuf, depth_pyr], n * RAY_STRIDE, None),
+            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", pixels.len() as u32, &[], consts, &[gbuf, depth_pyr, pixels], n * RAY_STRIDE, None),
         }
     }
 
@@ -425,32 +495,53 @@ impl<'a> Runner<'a> {
         }
     }
 
-    /// HDRP reprojection / resolve pass: (rgb premultiplied, opacity) per pixel. `SSR_APPROX`
-    /// reads each pixel's own ray (`ssr_hdrp_reproject`); the neighbourhood resolves
-    /// (`ssr_hdrp_resolve`) first run [`Runner::ray_hits`] (its own pass, "hits").
-    pub fn hdrp_reproject(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], mode: HdrpResolve) -> Result<Vec<f32>> {
+    /// HDRP reprojection / resolve pass over the pixel list `pixels` (the one the rays were
+    /// traced over): (rgb premultiplied, opacity) per pixel, zero for the pixels not in the list.
+    /// `SSR_APPROX` reads each pixel's own ray (`ssr_hdrp_reproject`); the neighbourhood
+    /// resolves (`ssr_hdrp_resolve`) first compute the hit records of the listed pixels' rays
+    /// (`ssr_hdrp_hits`, its own pass, "hits").
+    pub fn hdrp_reproject(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], pixels: &[f32], mode: HdrpResolve) -> Result<Vec<f32>> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
+        ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
+        ensure_hdrp_pixels(&p, pixels)?;
+        if pixels.is_empty() {
+            return Ok(vec![0.0; n * OUT_STRIDE]);
+        }
+        let count = pixels.len() as u32;
         let Some(shape) = mode.shape() else {
             return match self.backend {
                 Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                    let mut out = vec![0.0f32; n * OUT_STRIDE];
-                    out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| kern::hdrp_reproject(&p, gbuf, color_pyr, rays, i as u32, o, 0));
-                    out
+                    scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| {
+                        let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+                        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, o, 0);
+                        q as usize
+                    })
                 })),
-                Backend::Gpu(_) => self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", n as u32, &[], consts, &[gbuf, color_pyr, rays], n * OUT_STRIDE, None),
+                Backend::Gpu(_) => self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", count, &[], consts, &[gbuf, color_pyr, rays, pixels], n * OUT_STRIDE, None),
             };
         };
-        let hits = self.ray_hits(consts, gbuf, rays)?;
+        let hits = match self.backend {
+            Backend::Cpu => self.cpu_timed("hits", || {
+                scatter::<HIT_STRIDE>(pixels.len(), n, |k, o| {
+                    let (q, _, _) = stochastic::list_pixel(&p, pixels, k);
+                    hits::hit_record_slot(&p, gbuf, rays, q, o, 0);
+                    q as usize
+                })
+            }),
+            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_hdrp_hits", count, &[], consts, &[gbuf, rays, pixels], n * HIT_STRIDE, None)?,
+        };
         let hits = &hits[..];
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                let mut out = vec![0.0f32; n * OUT_STRIDE];
-                out.par_chunks_mut(OUT_STRIDE).enumerate().for_each(|(i, o)| kern::hdrp_resolve(&p, gbuf, color_pyr, rays, hits, shape, i as u32, o, 0));
-                out
+                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| {
+                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
+                    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, shape, x, y, o, 0);
+                    q as usize
+                })
             })),
             Backend::Gpu(_) => {
-                self.gpu_pass("resolve", "ssr::ssr_hdrp_resolve", n as u32, &[shape], consts, &[gbuf, color_pyr, rays, hits], n * OUT_STRIDE, None)
+                self.gpu_pass("resolve", "ssr::ssr_hdrp_resolve", count, &[shape], consts, &[gbuf, color_pyr, rays, hits, pixels], n * OUT_STRIDE, None)
             }
         }
     }
@@ -519,8 +610,9 @@ pub fn run_hdrp(backend: &Backend, gb: &GBuffer, s: &SsrSettings, trace_mode: Tr
     let mut r = Runner::new(backend);
     let depth_pyramid = r.depth_pyramid(&consts, &gb.depth_layers())?;
     let color_pyramid = r.color_pyramid(&consts, &gb.color)?;
-    let rays = r.hdrp_trace(&consts, &gbuf, &depth_pyramid)?;
-    let reflection = r.hdrp_reproject(&consts, &gbuf, &color_pyramid, &rays, resolve_mode)?;
+    let pixels = r.hdrp_pixels(&consts, &gbuf)?;
+    let rays = r.hdrp_trace(&consts, &gbuf, &depth_pyramid, &pixels)?;
+    let reflection = r.hdrp_reproject(&consts, &gbuf, &color_pyramid, &rays, &pixels, resolve_mode)?;
     Ok(SsrResult {
         width: gb.width,
         height: gb.height,

@@ -4,7 +4,7 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, scatter, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
@@ -146,8 +146,8 @@ impl Runner<'_> {
         }
     }
 
-    /// Prefix sum of one count column of the tiles (`stochastic::TILE_RAYS` or
-    /// `TILE_ELIGIBLE`; n + 1 words, the last the total): sequential on the CPU, the parallel
+    /// Prefix sum of one count column of the tiles (`stochastic::TILE_RAYS`, `TILE_ELIGIBLE`
+    /// or `TILE_VALID`; n + 1 words, the last the total): sequential on the CPU, the parallel
     /// `sssr_scan` on the GPU.
     pub fn sssr_prefix(&mut self, tiles: &[f32], column: usize) -> Result<Vec<f32>> {
         Ok(self.sssr_scan(tiles, column)?.0)
@@ -162,7 +162,10 @@ impl Runner<'_> {
 
     /// [`Runner::sssr_scan`] with a chosen GPU kernel (the CPU ignores the choice).
     pub fn sssr_scan_with(&mut self, tiles: &[f32], column: usize, kernel: ScanKernel) -> Result<(Vec<f32>, Vec<u32>)> {
-        anyhow::ensure!(column == stochastic::TILE_RAYS || column == stochastic::TILE_ELIGIBLE, "scan column {column} is not a count column");
+        anyhow::ensure!(
+            column == stochastic::TILE_RAYS || column == stochastic::TILE_ELIGIBLE || column == stochastic::TILE_VALID,
+            "scan column {column} is not a count column"
+        );
         let n = tiles.len() / TILE_STRIDE;
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("compact", || {
@@ -538,25 +541,6 @@ fn check_dispatch_record(rec: &[u32], entry: &str) -> Result<()> {
 /// The scan's argument record: one workgroup ([1, 1]), then the tile count and the column scanned.
 fn scan_pass_args(tiles: usize, column: usize) -> Vec<u32> {
     pass_args(1, &[tiles as u32, column as u32]).0
-}
-
-/// The CPU launcher of a pass over a compacted list of `entries`: on all cores, `f(k, record)`
-/// computes entry `k`'s record (`S` floats) and returns the slot it belongs to; each record is
-/// stored at its slot of a zeroed buffer of `slots` records, as the GPU kernel writes it.
-fn scatter<const S: usize>(entries: usize, slots: usize, f: impl Fn(u32, &mut [f32]) -> usize + Sync) -> Vec<f32> {
-    let recs: Vec<(usize, [f32; S])> = (0..entries as u32)
-        .into_par_iter()
-        .map(|k| {
-            let mut r = [0.0f32; S];
-            let slot = f(k, &mut r);
-            (slot, r)
-        })
-        .collect();
-    let mut out = vec![0.0f32; slots * S];
-    for (slot, r) in recs {
-        out[slot * S..(slot + 1) * S].copy_from_slice(&r);
-    }
-    out
 }
 
 /// A chain buffer the passes write and the host reads back.

@@ -44,12 +44,15 @@ pub const TILE_HIZ: u32 = 1;
 pub const TILE_LINEAR: u32 = 2;
 /// Tile class: both tracers occur in the tile.
 pub const TILE_MIXED: u32 = 3;
-/// Floats per tile record: class, rays, eligible pixels (bits), unused.
+/// Floats per tile record: class, rays, eligible pixels, valid pixels (bits).
 pub const TILE_STRIDE: usize = 4;
 /// Column of a tile record holding its ray count (scanned into the ray list's offsets).
 pub const TILE_RAYS: usize = 1;
 /// Column of a tile record holding its eligible-pixel count (scanned into the pixel list's offsets).
 pub const TILE_ELIGIBLE: usize = 2;
+/// Column of a tile record holding its count of pixels with a valid surface
+/// ([`Surface::valid`]: the pixels HDRP traces; scanned into HDRP's pixel list's offsets).
+pub const TILE_VALID: usize = 3;
 /// Words per ray-list entry: pixel index, sample | (trace mode << 8).
 pub const LIST_STRIDE: usize = 2;
 /// Floats per history texel: r, g, b (premultiplied), opacity, accumulated frame count.
@@ -97,11 +100,14 @@ pub fn trace_mode_for(p: &SsrParams, perceptual_roughness: f32) -> u32 {
     }
 }
 
-/// Classify tile (tx, ty): (class, rays to trace, eligible pixels). A tile with no eligible
-/// pixel (sky, too rough, faded out, back-facing) is skipped.
-pub fn classify_tile(p: &SsrParams, gbuf: &[f32], tx: u32, ty: u32) -> (u32, u32, u32) {
+/// Classify tile (tx, ty): (class, rays to trace, eligible pixels, pixels with a valid surface).
+/// A tile with no eligible pixel (sky, too rough, faded out, back-facing) is skipped by the
+/// stochastic passes; HDRP traces every valid pixel (including those faded out exactly at the
+/// fade end, whose rays its neighbourhood resolves still read).
+pub fn classify_tile(p: &SsrParams, gbuf: &[f32], tx: u32, ty: u32) -> (u32, u32, u32, u32) {
     let mut rays = 0;
     let mut eligible_px = 0;
+    let mut valid_px = 0;
     let mut smooth = 0;
     let mut rough = 0;
     let mut j = 0;
@@ -112,6 +118,9 @@ pub fn classify_tile(p: &SsrParams, gbuf: &[f32], tx: u32, ty: u32) -> (u32, u32
             let x = tx * TILE + i;
             if x < p.width && y < p.height {
                 let s = load_surface(p, gbuf, x, y);
+                if s.valid {
+                    valid_px += 1;
+                }
                 if eligible(p, &s) {
                     eligible_px += 1;
                     if traces(p, x, y, s.perceptual_roughness) {
@@ -137,10 +146,10 @@ pub fn classify_tile(p: &SsrParams, gbuf: &[f32], tx: u32, ty: u32) -> (u32, u32
     } else {
         TILE_MIXED
     };
-    (class, rays, eligible_px)
+    (class, rays, eligible_px, valid_px)
 }
 
-/// Exclusive prefix sum of one count column of the tiles ([`TILE_RAYS`] or [`TILE_ELIGIBLE`]), in
+/// Exclusive prefix sum of one count column of the tiles ([`TILE_RAYS`], [`TILE_ELIGIBLE`] or [`TILE_VALID`]), in
 /// tile order (the CPU backend's compaction step; the GPU's parallel `sssr_scan` must give the
 /// same): `offsets[t]` for each of `n` tiles and the total at `offsets[n]`.
 pub fn prefix_sum_tiles(tiles: &[f32], n: u32, column: usize, offsets: &mut [f32]) {
@@ -245,6 +254,28 @@ pub fn emit_tile(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets
                         }
                     }
                 }
+            }
+            i += 1;
+        }
+        j += 1;
+    }
+}
+
+/// Write tile (tx, ty)'s pixels with a valid surface ([`TILE_VALID`]) into a pixel list from
+/// its offset in `offsets` (row order within the tile): the list HDRP's trace, hit-record and
+/// resolve passes are launched over.
+pub fn emit_valid_tile(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty: u32, pixels: &mut [f32]) {
+    let tiles_x = (p.width + TILE - 1) / TILE;
+    let mut k = offsets[(ty * tiles_x + tx) as usize].to_bits();
+    let mut j = 0;
+    while j < TILE {
+        let y = ty * TILE + j;
+        let mut i = 0;
+        while i < TILE {
+            let x = tx * TILE + i;
+            if x < p.width && y < p.height && load_surface(p, gbuf, x, y).valid {
+                pixels[k as usize] = f32::from_bits(y * p.width + x);
+                k += 1;
             }
             i += 1;
         }
