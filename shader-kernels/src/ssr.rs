@@ -73,6 +73,94 @@ pub fn hdrp_emit(p: &SsrParams, gbuf: &[f32], offsets: &[f32], i: u32, pixels: &
     stochastic::emit_valid_tile(p, gbuf, offsets, i % tiles_x, i / tiles_x, pixels);
 }
 
+/// Where a list pass's invocation writes its record: at its slot of the pass's output (the GPU:
+/// one buffer over every slot, `at_slot`), or at the start of `out`, a record of its own (the
+/// CPU launcher, which stores it at the returned slot).
+#[inline]
+fn dest(slot: u32, stride: usize, at_slot: bool) -> usize {
+    if at_slot {
+        (slot as usize) * stride
+    } else {
+        0
+    }
+}
+
+/// HDRP tracing, invocation `k` (entry `k` of the valid-pixel list): the pixel's ray record (see
+/// [`dest`]); returns its slot (the pixel).
+#[inline]
+pub fn hdrp_trace(p: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], pixels: &[f32], k: u32, rays: &mut [f32], at_slot: bool) -> u32 {
+    let (q, x, y) = stochastic::list_pixel(p, pixels, k);
+    trace::hdrp_trace_pixel(p, gbuf, depth_pyr, x, y, rays, dest(q, RAY_STRIDE, at_slot));
+    q
+}
+
+/// HDRP's hit records, invocation `k` (entry `k` of the valid-pixel list; one ray per pixel):
+/// the record of the pixel's ray (see [`dest`]); returns its slot.
+#[inline]
+pub fn hdrp_hits(p: &SsrParams, gbuf: &[f32], rays: &[f32], pixels: &[f32], k: u32, hits_out: &mut [f32], at_slot: bool) -> u32 {
+    let (q, _, _) = stochastic::list_pixel(p, pixels, k);
+    hits::hit_record_slot(p, gbuf, rays, q, hits_out, dest(q, HIT_STRIDE, at_slot));
+    q
+}
+
+/// `SSR_APPROX`, invocation `k` (entry `k` of the valid-pixel list): the pixel's reflection (see
+/// [`dest`]); returns the pixel.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn hdrp_reproject(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], pixels: &[f32], k: u32, out: &mut [f32], at_slot: bool) -> u32 {
+    let (q, x, y) = stochastic::list_pixel(p, pixels, k);
+    resolve::hdrp_reproject_approx(p, gbuf, color_pyr, rays, x, y, out, dest(q, OUT_STRIDE, at_slot));
+    q
+}
+
+/// HDRP's neighbourhood resolve of shape `shape`, invocation `k` (entry `k` of the valid-pixel
+/// list): the pixel's reflection (see [`dest`]); returns the pixel.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn hdrp_resolve(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], hits_in: &[f32], shape: u32, pixels: &[f32], k: u32, out: &mut [f32], at_slot: bool) -> u32 {
+    let (q, x, y) = stochastic::list_pixel(p, pixels, k);
+    resolve::hdrp_resolve_neighborhood(p, gbuf, color_pyr, rays, hits_in, shape, x, y, out, dest(q, OUT_STRIDE, at_slot));
+    q
+}
+
+/// Stochastic tracing, invocation `k` (entry `k` of the ray list): the ray's record (see
+/// [`dest`]); returns its slot.
+#[inline]
+pub fn sssr_trace_entry(p: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], list: &[f32], k: u32, rays: &mut [f32], at_slot: bool) -> u32 {
+    let slot = stochastic::list_slot(p, list, k);
+    stochastic::trace_list_entry(p, gbuf, depth_pyr, list, k, rays, dest(slot, RAY_STRIDE, at_slot));
+    slot
+}
+
+/// Stochastic hit records, invocation `k` (entry `k` of the ray list): the ray's hit record (see
+/// [`dest`]); returns its slot.
+#[inline]
+pub fn sssr_hits_entry(p: &SsrParams, gbuf: &[f32], rays: &[f32], list: &[f32], k: u32, hits_out: &mut [f32], at_slot: bool) -> u32 {
+    let slot = stochastic::list_slot(p, list, k);
+    hits::hit_record_slot(p, gbuf, rays, slot, hits_out, dest(slot, HIT_STRIDE, at_slot));
+    slot
+}
+
+/// Stochastic resolve, invocation `k` (entry `k` of the eligible-pixel list): the pixel's
+/// reflection (see [`dest`]); returns the pixel.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn sssr_resolve_entry(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], hits_in: &[f32], pixels: &[f32], k: u32, out: &mut [f32], at_slot: bool) -> u32 {
+    let (q, x, y) = stochastic::list_pixel(p, pixels, k);
+    stochastic::resolve_pixel(p, gbuf, color_pyr, rays, hits_in, x, y, out, dest(q, OUT_STRIDE, at_slot));
+    q
+}
+
+/// Reflection hit distance, invocation `k` (entry `k` of the eligible-pixel list): the pixel's
+/// distance (see [`dest`]); returns the pixel.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn sssr_hit_distance_entry(p: &SsrParams, gbuf: &[f32], rays: &[f32], hits_in: &[f32], pixels: &[f32], k: u32, out: &mut [f32], at_slot: bool) -> u32 {
+    let (q, x, y) = stochastic::list_pixel(p, pixels, k);
+    out[dest(q, 1, at_slot)] = stochastic::hit_distance_pixel(p, gbuf, rays, hits_in, x, y);
+    q
+}
+
 /// Temporal accumulation, invocation `i` (pixel `i`): its history texel at `out[ob..]`.
 #[inline]
 #[allow(clippy::too_many_arguments)]
@@ -152,8 +240,7 @@ pub fn ssr_hdrp_trace(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, rays, (q as usize) * RAY_STRIDE);
+    hdrp_trace(&p, gbuf, depth_pyr, pixels, k, rays, true);
 }
 
 /// Hit records (`shader_core::ssr::hits`): one invocation per ray slot (pixels x samples per
@@ -186,8 +273,7 @@ pub fn ssr_hdrp_hits(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let (q, _, _) = stochastic::list_pixel(&p, pixels, k);
-    hits::hit_record_slot(&p, gbuf, rays, q, hits, (q as usize) * HIT_STRIDE);
+    hdrp_hits(&p, gbuf, rays, pixels, k, hits, true);
 }
 
 /// HDRP reprojection, `SSR_APPROX`, over the valid-pixel list: the pixel's own ray only (`out`
@@ -206,8 +292,7 @@ pub fn ssr_hdrp_reproject(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-    resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, out, (q as usize) * OUT_STRIDE);
+    hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, out, true);
 }
 
 /// HDRP's neighbourhood resolve (`args[2]` = shape: `resolve::NEIGHBORHOOD_3X3` or
@@ -229,8 +314,7 @@ pub fn ssr_hdrp_resolve(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, args[2], x, y, out, (q as usize) * OUT_STRIDE);
+    hdrp_resolve(&p, gbuf, color_pyr, rays, hits, args[2], pixels, k, out, true);
 }
 
 /// Tile classification (both pipelines): one invocation per 8x8 tile writes (class, rays,
@@ -281,8 +365,7 @@ pub fn sssr_trace(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let ob = (stochastic::list_slot(&p, list, k) as usize) * RAY_STRIDE;
-    stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, rays, ob);
+    sssr_trace_entry(&p, gbuf, depth_pyr, list, k, rays, true);
 }
 
 /// Stochastic SSR, hit records over the compacted ray list (dispatched like [`sssr_trace`]):
@@ -300,8 +383,7 @@ pub fn sssr_hits(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let slot = stochastic::list_slot(&p, list, k);
-    hits::hit_record_slot(&p, gbuf, rays, slot, hits, (slot as usize) * HIT_STRIDE);
+    sssr_hits_entry(&p, gbuf, rays, list, k, hits, true);
 }
 
 /// Stochastic SSR, BRDF-weighted ratio-estimator resolve over the compacted list of eligible
@@ -322,8 +404,7 @@ pub fn sssr_resolve(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, x, y, out, (q as usize) * OUT_STRIDE);
+    sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, out, true);
 }
 
 /// Stochastic SSR, temporal accumulation (one invocation per pixel; history stride 5): hit-based
@@ -362,8 +443,7 @@ pub fn sssr_hit_distance(
 ) {
     let Some(k) = invocation(id, args) else { return };
     let p = *consts;
-    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-    out[q as usize] = stochastic::hit_distance_pixel(&p, gbuf, rays, hits, x, y);
+    sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, out, true);
 }
 
 /// Specular term: the reflection (4 values per pixel) times the preintegrated FG term looked up

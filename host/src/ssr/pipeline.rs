@@ -468,11 +468,7 @@ impl<'a> Runner<'a> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("trace", || {
-                scatter::<RAY_STRIDE>(pixels.len(), n, |k, o| {
-                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-                    trace::hdrp_trace_pixel(&p, gbuf, depth_pyr, x, y, o, 0);
-                    q as usize
-                })
+                scatter::<RAY_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_trace(&p, gbuf, depth_pyr, pixels, k, o, false) as usize)
             })),
             Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", pixels.len() as u32, &[], consts, &[gbuf, depth_pyr, pixels], n * RAY_STRIDE, None),
         }
@@ -512,33 +508,21 @@ impl<'a> Runner<'a> {
         let Some(shape) = mode.shape() else {
             return match self.backend {
                 Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                    scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| {
-                        let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-                        resolve::hdrp_reproject_approx(&p, gbuf, color_pyr, rays, x, y, o, 0);
-                        q as usize
-                    })
+                    scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, o, false) as usize)
                 })),
                 Backend::Gpu(_) => self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", count, &[], consts, &[gbuf, color_pyr, rays, pixels], n * OUT_STRIDE, None),
             };
         };
         let hits = match self.backend {
             Backend::Cpu => self.cpu_timed("hits", || {
-                scatter::<HIT_STRIDE>(pixels.len(), n, |k, o| {
-                    let (q, _, _) = stochastic::list_pixel(&p, pixels, k);
-                    hits::hit_record_slot(&p, gbuf, rays, q, o, 0);
-                    q as usize
-                })
+                scatter::<HIT_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_hits(&p, gbuf, rays, pixels, k, o, false) as usize)
             }),
             Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_hdrp_hits", count, &[], consts, &[gbuf, rays, pixels], n * HIT_STRIDE, None)?,
         };
         let hits = &hits[..];
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| {
-                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-                    resolve::hdrp_resolve_neighborhood(&p, gbuf, color_pyr, rays, hits, shape, x, y, o, 0);
-                    q as usize
-                })
+                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_resolve(&p, gbuf, color_pyr, rays, hits, shape, pixels, k, o, false) as usize)
             })),
             Backend::Gpu(_) => {
                 self.gpu_pass("resolve", "ssr::ssr_hdrp_resolve", count, &[shape], consts, &[gbuf, color_pyr, rays, hits, pixels], n * OUT_STRIDE, None)

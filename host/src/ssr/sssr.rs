@@ -11,7 +11,6 @@ use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
-use shader_core::ssr::hits;
 use shader_core::ssr::params::mip_size;
 use shader_core::ssr::resolve::{COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
@@ -393,10 +392,7 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("trace", || {
-                scatter::<RAY_STRIDE>(count, slots, |k, o| {
-                    stochastic::trace_list_entry(&p, gbuf, depth_pyr, list, k, o, 0);
-                    stochastic::list_slot(&p, list, k) as usize
-                })
+                scatter::<RAY_STRIDE>(count, slots, |k, o| kern::sssr_trace_entry(&p, gbuf, depth_pyr, list, k, o, false) as usize)
             })),
             Backend::Gpu(_) => self.gpu_pass("trace", "ssr::sssr_trace", count as u32, &[], consts, &[gbuf, depth_pyr, list], slots * RAY_STRIDE, None),
         }
@@ -415,11 +411,7 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("hits", || {
-                scatter::<HIT_STRIDE>(count, slots, |k, o| {
-                    let slot = stochastic::list_slot(&p, list, k);
-                    hits::hit_record_slot(&p, gbuf, rays, slot, o, 0);
-                    slot as usize
-                })
+                scatter::<HIT_STRIDE>(count, slots, |k, o| kern::sssr_hits_entry(&p, gbuf, rays, list, k, o, false) as usize)
             })),
             Backend::Gpu(_) => self.gpu_pass("hits", "ssr::sssr_hits", count as u32, &[], consts, &[gbuf, rays, list], slots * HIT_STRIDE, None),
         }
@@ -436,11 +428,7 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| {
-                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-                    stochastic::resolve_pixel(&p, gbuf, color_pyr, rays, hits, x, y, o, 0);
-                    q as usize
-                })
+                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| kern::sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, o, false) as usize)
             })),
             Backend::Gpu(_) => self.gpu_pass(
                 "resolve",
@@ -466,11 +454,7 @@ impl Runner<'_> {
         }
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("temporal", || {
-                scatter::<1>(pixels.len(), n, |k, o| {
-                    let (q, x, y) = stochastic::list_pixel(&p, pixels, k);
-                    o[0] = stochastic::hit_distance_pixel(&p, gbuf, rays, hits, x, y);
-                    q as usize
-                })
+                scatter::<1>(pixels.len(), n, |k, o| kern::sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, o, false) as usize)
             })),
             Backend::Gpu(_) => self.gpu_pass("temporal", "ssr::sssr_hit_distance", pixels.len() as u32, &[], consts, &[gbuf, rays, hits, pixels], n, None),
         }

@@ -232,6 +232,11 @@ pub fn emit_tile(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets
     let t = (ty * tiles_x + tx) as usize;
     let mut k = ray_offsets[t].to_bits();
     let mut kp = pixel_offsets[t].to_bits();
+    // A tile with nothing to emit (its offsets equal the next tile's) skips its 64 surfaces; on a
+    // device that runs 8 tiles in lockstep the loop is skipped when all 8 are empty.
+    if ray_offsets[t + 1].to_bits() == k && pixel_offsets[t + 1].to_bits() == kp {
+        return;
+    }
     let mut j = 0;
     while j < TILE {
         let y = ty * TILE + j;
@@ -266,7 +271,12 @@ pub fn emit_tile(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets
 /// resolve passes are launched over.
 pub fn emit_valid_tile(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty: u32, pixels: &mut [f32]) {
     let tiles_x = (p.width + TILE - 1) / TILE;
-    let mut k = offsets[(ty * tiles_x + tx) as usize].to_bits();
+    let t = (ty * tiles_x + tx) as usize;
+    let mut k = offsets[t].to_bits();
+    // An empty tile skips its 64 surfaces (see [`emit_tile`]).
+    if offsets[t + 1].to_bits() == k {
+        return;
+    }
     let mut j = 0;
     while j < TILE {
         let y = ty * TILE + j;
