@@ -206,7 +206,7 @@ fn update_in_place(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -> (u32, f
 /// The CPU launcher of a pass over a compacted list of `entries`: on all cores, `f(k, record)`
 /// computes entry `k`'s record (`S` floats) and returns the slot it belongs to; each record is
 /// stored at its slot of a zeroed buffer of `slots` records, as the GPU kernel writes it.
-pub(crate) fn scatter<const S: usize>(entries: usize, slots: usize, f: impl Fn(u32, &mut [f32]) -> usize + Sync) -> Vec<f32> {
+fn scatter<const S: usize>(entries: usize, slots: usize, f: impl Fn(u32, &mut [f32]) -> usize + Sync) -> Vec<f32> {
     let recs: Vec<(usize, [f32; S])> = (0..entries as u32)
         .into_par_iter()
         .map(|k| {
@@ -371,6 +371,31 @@ impl<'a> Runner<'a> {
         Ok(bytemuck::cast_slice(&res[0]).to_vec())
     }
 
+    /// A pass over a list of `count` entries into a zeroed buffer of `slots` records of `S`
+    /// floats: on the CPU [`scatter`] over `cpu_fn` (entry `k`'s record, returning its slot), on
+    /// the GPU `entry` over the same entries (`gpu_pass`). An empty list runs nothing: every slot
+    /// stays zero.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn list_pass<const S: usize>(
+        &mut self,
+        name: &str,
+        entry: &str,
+        count: usize,
+        slots: usize,
+        extra: &[u32],
+        consts: &SsrParams,
+        inputs: &[&[f32]],
+        cpu_fn: impl Fn(u32, &mut [f32]) -> u32 + Sync,
+    ) -> Result<Vec<f32>> {
+        if count == 0 {
+            return Ok(vec![0.0; slots * S]);
+        }
+        match self.backend {
+            Backend::Cpu => Ok(self.cpu_timed(name, || scatter::<S>(count, slots, |k, o| cpu_fn(k, o) as usize))),
+            Backend::Gpu(_) => self.gpu_pass(name, entry, count as u32, extra, consts, inputs, slots * S, None),
+        }
+    }
+
     pub(crate) fn cpu_timed<T>(&mut self, name: &str, f: impl FnOnce() -> T) -> T {
         let t0 = Instant::now();
         let r = f();
@@ -463,15 +488,9 @@ impl<'a> Runner<'a> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
         ensure_hdrp_pixels(&p, pixels)?;
-        if pixels.is_empty() {
-            return Ok(vec![0.0; n * RAY_STRIDE]);
-        }
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("trace", || {
-                scatter::<RAY_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_trace(&p, gbuf, depth_pyr, pixels, k, o, false) as usize)
-            })),
-            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::ssr_hdrp_trace", pixels.len() as u32, &[], consts, &[gbuf, depth_pyr, pixels], n * RAY_STRIDE, None),
-        }
+        self.list_pass::<RAY_STRIDE>("trace", "ssr::ssr_hdrp_trace", pixels.len(), n, &[], consts, &[gbuf, depth_pyr, pixels], |k, o| {
+            kern::hdrp_trace(&p, gbuf, depth_pyr, pixels, k, o, false)
+        })
     }
 
     /// Hit records of every ray slot (`HIT_STRIDE` floats per slot, pixels x samples per pixel,
@@ -501,33 +520,19 @@ impl<'a> Runner<'a> {
         let n = (p.width * p.height) as usize;
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
         ensure_hdrp_pixels(&p, pixels)?;
-        if pixels.is_empty() {
-            return Ok(vec![0.0; n * OUT_STRIDE]);
-        }
-        let count = pixels.len() as u32;
+        let count = pixels.len();
         let Some(shape) = mode.shape() else {
-            return match self.backend {
-                Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                    scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, o, false) as usize)
-                })),
-                Backend::Gpu(_) => self.gpu_pass("resolve", "ssr::ssr_hdrp_reproject", count, &[], consts, &[gbuf, color_pyr, rays, pixels], n * OUT_STRIDE, None),
-            };
+            return self.list_pass::<OUT_STRIDE>("resolve", "ssr::ssr_hdrp_reproject", count, n, &[], consts, &[gbuf, color_pyr, rays, pixels], |k, o| {
+                kern::hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, o, false)
+            });
         };
-        let hits = match self.backend {
-            Backend::Cpu => self.cpu_timed("hits", || {
-                scatter::<HIT_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_hits(&p, gbuf, rays, pixels, k, o, false) as usize)
-            }),
-            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_hdrp_hits", count, &[], consts, &[gbuf, rays, pixels], n * HIT_STRIDE, None)?,
-        };
+        let hits = self.list_pass::<HIT_STRIDE>("hits", "ssr::ssr_hdrp_hits", count, n, &[], consts, &[gbuf, rays, pixels], |k, o| {
+            kern::hdrp_hits(&p, gbuf, rays, pixels, k, o, false)
+        })?;
         let hits = &hits[..];
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| kern::hdrp_resolve(&p, gbuf, color_pyr, rays, hits, shape, pixels, k, o, false) as usize)
-            })),
-            Backend::Gpu(_) => {
-                self.gpu_pass("resolve", "ssr::ssr_hdrp_resolve", count, &[shape], consts, &[gbuf, color_pyr, rays, hits, pixels], n * OUT_STRIDE, None)
-            }
-        }
+        self.list_pass::<OUT_STRIDE>("resolve", "ssr::ssr_hdrp_resolve", count, n, &[shape], consts, &[gbuf, color_pyr, rays, hits, pixels], |k, o| {
+            kern::hdrp_resolve(&p, gbuf, color_pyr, rays, hits, shape, pixels, k, o, false)
+        })
     }
 
     /// The specular term: `reflection` (4 values per pixel, premultiplied) times the

@@ -4,7 +4,7 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, scatter, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
@@ -386,16 +386,9 @@ impl Runner<'_> {
     pub fn sssr_trace(&mut self, consts: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], list: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let slots = ray_slots(&p);
-        let count = list.len() / LIST_STRIDE;
-        if count == 0 {
-            return Ok(vec![0.0; slots * RAY_STRIDE]);
-        }
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("trace", || {
-                scatter::<RAY_STRIDE>(count, slots, |k, o| kern::sssr_trace_entry(&p, gbuf, depth_pyr, list, k, o, false) as usize)
-            })),
-            Backend::Gpu(_) => self.gpu_pass("trace", "ssr::sssr_trace", count as u32, &[], consts, &[gbuf, depth_pyr, list], slots * RAY_STRIDE, None),
-        }
+        self.list_pass::<RAY_STRIDE>("trace", "ssr::sssr_trace", list.len() / LIST_STRIDE, slots, &[], consts, &[gbuf, depth_pyr, list], |k, o| {
+            kern::sssr_trace_entry(&p, gbuf, depth_pyr, list, k, o, false)
+        })
     }
 
     /// Hit records of the rays of the list (`HIT_STRIDE` per slot, `shader_core::ssr::hits`),
@@ -405,16 +398,9 @@ impl Runner<'_> {
         let p = *consts;
         let slots = ray_slots(&p);
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
-        let count = list.len() / LIST_STRIDE;
-        if count == 0 {
-            return Ok(vec![0.0; slots * HIT_STRIDE]);
-        }
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("hits", || {
-                scatter::<HIT_STRIDE>(count, slots, |k, o| kern::sssr_hits_entry(&p, gbuf, rays, list, k, o, false) as usize)
-            })),
-            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::sssr_hits", count as u32, &[], consts, &[gbuf, rays, list], slots * HIT_STRIDE, None),
-        }
+        self.list_pass::<HIT_STRIDE>("hits", "ssr::sssr_hits", list.len() / LIST_STRIDE, slots, &[], consts, &[gbuf, rays, list], |k, o| {
+            kern::sssr_hits_entry(&p, gbuf, rays, list, k, o, false)
+        })
     }
 
     /// The ratio-estimator resolve of the eligible pixels `pixels` (from [`Runner::sssr_emit`]),
@@ -423,23 +409,9 @@ impl Runner<'_> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
         ensure_slot_records(&p, "hit", hits, HIT_STRIDE)?;
-        if pixels.is_empty() {
-            return Ok(vec![0.0; n * OUT_STRIDE]);
-        }
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("resolve", || {
-                scatter::<OUT_STRIDE>(pixels.len(), n, |k, o| kern::sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, o, false) as usize)
-            })),
-            Backend::Gpu(_) => self.gpu_pass(
-                "resolve",
-                "ssr::sssr_resolve",
-                pixels.len() as u32,
-                &[],
-                consts, &[gbuf, color_pyr, rays, hits, pixels],
-                n * OUT_STRIDE,
-                None,
-            ),
-        }
+        self.list_pass::<OUT_STRIDE>("resolve", "ssr::sssr_resolve", pixels.len(), n, &[], consts, &[gbuf, color_pyr, rays, hits, pixels], |k, o| {
+            kern::sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, o, false)
+        })
     }
 
     /// Reflection hit distance per pixel over the eligible pixels `pixels` (from
@@ -449,15 +421,9 @@ impl Runner<'_> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
         ensure_slot_records(&p, "hit", hits, HIT_STRIDE)?;
-        if pixels.is_empty() {
-            return Ok(vec![0.0; n]);
-        }
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("temporal", || {
-                scatter::<1>(pixels.len(), n, |k, o| kern::sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, o, false) as usize)
-            })),
-            Backend::Gpu(_) => self.gpu_pass("temporal", "ssr::sssr_hit_distance", pixels.len() as u32, &[], consts, &[gbuf, rays, hits, pixels], n, None),
-        }
+        self.list_pass::<1>("temporal", "ssr::sssr_hit_distance", pixels.len(), n, &[], consts, &[gbuf, rays, hits, pixels], |k, o| {
+            kern::sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, o, false)
+        })
     }
 
     /// Temporal accumulation: new history (`HISTORY_STRIDE` per pixel). `prev_gbuf` is the packed
