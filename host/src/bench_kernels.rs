@@ -4,8 +4,8 @@
 //! Per function: evaluations per second on the CPU backend with all threads and with one thread
 //! (their ratio is the CPU scaling), on the GPU backend (timestamp queries around the compute
 //! pass: kernel time only, uploads and readback excluded) with both builds of the module (the
-//! default one, whose division and square root are `shader_core::ieee`'s exact routines, and the
-//! native one, `HOST_DIV_SQRT=native`), and the driver's compile time of the function's own entry
+//! exact one, whose division and square root are `shader_core::ieee`'s software routines, and the
+//! native one, which `HOST_DIV_SQRT=auto` loads where the driver rounds them correctly), and the driver's compile time of the function's own entry
 //! point (its pipeline creation, first use). For `ggx_d` and
 //! `sample_vndf_heitz` a hand-written WGSL kernel of the same formula (host/src/wgsl/
 //! reference.wgsl, compiled by naga) runs over the same rows on the same adapter in the same
@@ -64,13 +64,13 @@ pub struct KernelRow {
     pub cpu_one_thread_rate: f64,
     /// cpu_rate / cpu_one_thread_rate.
     pub cpu_scaling: f64,
-    /// The default module: division and square root by `shader_core::ieee` (exact anywhere).
+    /// The exact build: division and square root by `shader_core::ieee` (exact anywhere).
     pub gpu_rate: Option<f64>,
     pub gpu_median_rate: Option<f64>,
     pub gpu_timing: Option<String>,
-    /// Seconds the driver took to create this entry point's pipeline (default module).
+    /// Seconds the driver took to create this entry point's pipeline (exact build).
     pub gpu_compile_seconds: Option<f64>,
-    /// The "native" module (`OpFDiv` / `Sqrt`; `HOST_DIV_SQRT=native`), same adapter, same rows.
+    /// The "native" build (`OpFDiv` / `Sqrt`), same adapter, same rows.
     pub gpu_native_rate: Option<f64>,
     pub gpu_native_compile_seconds: Option<f64>,
     /// gpu_native_rate / gpu_rate: what exact division and square root cost.
@@ -91,6 +91,10 @@ pub struct KernelReport {
     pub load_average_start: String,
     pub load_average_end: String,
     pub adapter: Option<String>,
+    /// The build `--device gpu` loads on this adapter (`HOST_DIV_SQRT` as set for this run,
+    /// `auto` by default) and why: "exact" or "native".
+    pub default_build: Option<String>,
+    pub default_build_why: Option<String>,
     pub rows: u32,
     pub repeats: u32,
     pub functions: Vec<KernelRow>,
@@ -200,7 +204,11 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     };
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
-    // Both builds of the main module on the same adapter: the exact one (default) and the native.
+    // Both builds of the main module on the same adapter: the exact one and the native.
+    let default_build = match &gpu {
+        Some(Backend::Gpu(g)) => Some((if g.div_sqrt == DivSqrt::Native { "native" } else { "exact" }.to_string(), g.div_sqrt_why.clone())),
+        _ => None,
+    };
     let (gpu, native) = match gpu {
         Some(Backend::Gpu(g)) => {
             // The build `HOST_DIV_SQRT` selected is already loaded: load only the other one.
@@ -282,6 +290,8 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
             Some(g) => Some(g.describe()),
             None => None,
         },
+        default_build: default_build.as_ref().map(|b| b.0.clone()),
+        default_build_why: default_build.map(|b| b.1),
         rows: a.rows,
         repeats: a.repeats,
         functions: out,
@@ -313,12 +323,19 @@ pub fn markdown(r: &KernelReport) -> String {
         r.rows,
         r.repeats
     );
+    if let Some(b) = &r.default_build {
+        let _ = writeln!(
+            s,
+            "`--device gpu` loads the **{b}** build on this adapter ({}).\n",
+            r.default_build_why.as_deref().unwrap_or("")
+        );
+    }
     let _ = writeln!(
         s,
-        "GPU = the default module (division and square root by `shader_core::ieee`, exact on any conformant device); \
-         GPU native = the same kernels with `OpFDiv`/`Sqrt` (`HOST_DIV_SQRT=native`); exact cost = native rate / GPU rate. \
+        "GPU = the exact build (division and square root by `shader_core::ieee`, exact on any conformant device); \
+         GPU native = the same kernels with `OpFDiv`/`Sqrt` (the build `HOST_DIV_SQRT=auto` loads where the driver rounds them correctly); exact cost = native rate / GPU rate. \
          WGSL = a hand-written kernel of the same formula (`host/src/wgsl/reference.wgsl`, naga, the driver's division); \
-         rust-gpu / WGSL compares the native module with it, exact / WGSL the default one. Compile = pipeline creation \
+         rust-gpu / WGSL compares the native build with it, exact / WGSL the exact one. Compile = pipeline creation \
          (the driver's compile of that entry point). M/s = 10^6 evaluations per second.\n"
     );
     let _ = writeln!(s, "| function | CPU M/s | CPU 1-thread M/s | CPU scaling | GPU M/s | GPU median M/s | GPU compile ms | GPU native M/s | native compile ms | exact cost | WGSL M/s | rust-gpu / WGSL | exact / WGSL |");

@@ -4,7 +4,7 @@
 pub mod cli_args;
 // The launchers live in the `runner` crate (usable without the CLI's dependencies); re-exported
 // so the features here and the tests keep one path.
-pub use runner::{backend, cpu, float_controls, gpu, shaders, timing};
+pub use runner::{backend, cpu, div_sqrt_probe, float_controls, gpu, shaders, timing};
 pub use runner::{Backend, DeviceChoice, Timing, TimingSource};
 // The f64 references live in the `reference` crate (no GPU dependencies).
 pub use reference::{energy as energy_ref, microfacet as microfacet_ref};

@@ -22,7 +22,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Show the Vulkan adapters, the backend `--device` would pick, and the SPIR-V manifest.
+    /// Show the Vulkan adapters, the backend `--device` would pick, and the SPIR-V manifest; for
+    /// a GPU backend, also which build of the kernels it loaded (HOST_DIV_SQRT: auto, exact or
+    /// native division / square root) and whether the adapter's own division and square root
+    /// are correctly rounded on the probe rows.
     Info {
         /// The choice whose backend to report: auto, cpu or gpu.
         #[arg(long, value_enum, default_value = "auto")]
@@ -218,5 +221,15 @@ fn info(device: DeviceChoice) -> Result<()> {
     }
     let backend = Backend::select(device)?;
     println!("--device {:?} selects: {}", device, backend.describe());
+    if let Backend::Gpu(g) = &backend {
+        // Whatever auto chose: is the native build's division correctly rounded here?
+        let native = host::shaders::load_variant(host::shaders::DivSqrt::Native).map_err(anyhow::Error::msg)?;
+        let n = host::gpu::GpuContext::new(&native)?;
+        let p = host::div_sqrt_probe::run(&n)?;
+        match p.first {
+            None => println!("native build's OpFDiv/Sqrt on {}: correctly rounded on all {} probe rows", g.info.name, p.rows),
+            Some(first) => println!("native build's OpFDiv/Sqrt on {}: differ from correctly rounded on {} of {} probe rows, first: {first}", g.info.name, p.differing, p.rows),
+        }
+    }
     Ok(())
 }

@@ -31,12 +31,10 @@ pub enum Backend {
 
 impl Backend {
     /// Create the backend the user chose (see [`DeviceChoice`]). The GPU backend refuses SPIR-V
-    /// that is stale relative to the shader sources this binary was built from.
+    /// that is stale relative to the shader sources this binary was built from, and loads the
+    /// build of the main module `HOST_DIV_SQRT` chooses ([`crate::shaders::DivSqrtChoice`]).
     pub fn select(choice: DeviceChoice) -> Result<Backend> {
-        let gpu = || -> Result<Backend> {
-            let shader = crate::shaders::load().map_err(anyhow::Error::msg)?;
-            Ok(Backend::Gpu(Box::new(GpuContext::new(&shader)?)))
-        };
+        let gpu = || -> Result<Backend> { Ok(Backend::Gpu(Box::new(GpuContext::with_div_sqrt_choice()?))) };
         match choice {
             DeviceChoice::Cpu => Ok(Backend::Cpu),
             DeviceChoice::Gpu => gpu(),

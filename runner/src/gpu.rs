@@ -43,6 +43,8 @@ pub struct GpuContext {
     module: wgpu::ShaderModule,
     /// Which build of the main module is loaded (exact or native division / square root).
     pub div_sqrt: crate::shaders::DivSqrt,
+    /// Why that build (the `HOST_DIV_SQRT` choice and, for `auto`, the driver and probe).
+    pub div_sqrt_why: String,
     /// The main module's entry points (from its manifest).
     entry_points: Vec<String>,
     /// The subgroup module and its entry points, where the adapter has subgroup operations.
@@ -143,11 +145,56 @@ impl GpuContext {
             module,
             entry_points: shader.manifest.entry_points.clone(),
             div_sqrt: shader.div_sqrt,
+            div_sqrt_why: String::new(),
             subgroup_module,
             extra_modules: Mutex::new(Vec::new()),
             pipelines: Mutex::new(HashMap::new()),
             compile_seconds: Mutex::new(HashMap::new()),
         })
+    }
+
+    /// [`GpuContext::new`] with the build of the main module `HOST_DIV_SQRT` chooses: `exact`
+    /// and `native` as asked; `auto` (default) the native build where the driver is known to
+    /// round `OpFDiv` and `Sqrt` correctly ([`crate::div_sqrt_probe::known_correctly_rounded`])
+    /// and [`crate::div_sqrt_probe::run`] finds them so on this adapter, else the exact build.
+    /// The description ([`GpuContext::describe`]) says which and why.
+    pub fn with_div_sqrt_choice() -> Result<Self, GpuError> {
+        use crate::shaders::{load_variant, DivSqrt, DivSqrtChoice};
+        let choice = DivSqrtChoice::from_env().map_err(GpuError::Shader)?;
+        let first = if choice == DivSqrtChoice::Auto { DivSqrt::Native } else { choice.without_adapter() };
+        let mut g = GpuContext::new(&load_variant(first).map_err(GpuError::Shader)?)?;
+        match choice {
+            DivSqrtChoice::Exact => g.div_sqrt_why = "HOST_DIV_SQRT=exact".into(),
+            DivSqrtChoice::Native => g.div_sqrt_why = "HOST_DIV_SQRT=native: bit-exact with the CPU only where the driver rounds them correctly".into(),
+            DivSqrtChoice::Auto => {
+                let exact = |g: &mut GpuContext, why: String| -> Result<(), GpuError> {
+                    g.set_main_module(&load_variant(DivSqrt::Exact).map_err(GpuError::Shader)?, why)
+                };
+                if !crate::div_sqrt_probe::known_correctly_rounded(&g.info) {
+                    let why = format!("auto: driver {} is not known to round OpFDiv/Sqrt correctly", g.info.driver);
+                    exact(&mut g, why)?;
+                } else {
+                    let p = crate::div_sqrt_probe::run(&g)?;
+                    if p.passed() {
+                        g.div_sqrt_why = format!(
+                            "auto: {} rounds OpFDiv/Sqrt correctly, checked on {} probe rows; HOST_DIV_SQRT=exact for the software routines",
+                            g.info.driver, p.rows
+                        );
+                    } else {
+                        let why = format!(
+                            "auto: {}'s OpFDiv/Sqrt differ from correctly rounded on {} of {} probe rows, first: {}",
+                            g.info.driver,
+                            p.differing,
+                            p.rows,
+                            p.first.unwrap_or_default()
+                        );
+                        eprintln!("warning: {why}; using the exact build");
+                        exact(&mut g, why)?;
+                    }
+                }
+            }
+        }
+        Ok(g)
     }
 
     /// One line naming the adapter, driver and how shaders and timings are handled.
@@ -160,10 +207,24 @@ impl GpuContext {
             self.info.driver_info,
             if self.passthrough { "passed through unchanged" } else { "translated by naga" },
             if self.subgroup_module.is_some() { ", subgroup kernels loaded" } else { ", no subgroup kernels" },
-            self.div_sqrt.describe(),
+            if self.div_sqrt_why.is_empty() { self.div_sqrt.describe().to_string() } else { format!("{} ({})", self.div_sqrt.describe(), self.div_sqrt_why) },
             if self.timestamps { "timestamp queries" } else { "wall clock" },
             self.denorm_policy.describe()
         )
+    }
+
+    /// Replace the main module by `shader` (the other build of the same kernels), with `why` for
+    /// the description: its pipelines are created afresh on first use.
+    pub fn set_main_module(&mut self, shader: &ShaderModule, why: String) -> Result<(), GpuError> {
+        let words = self.denorm_policy.apply(&shader.words).map_err(GpuError::Shader)?;
+        // SAFETY: as in `new` (rust-gpu output, spirv-val'd, manifest checked).
+        self.module = unsafe { spirv_module(&self.device, "shader-kernels", &words, &shader.manifest.entry_points, self.passthrough)? };
+        self.entry_points = shader.manifest.entry_points.clone();
+        self.div_sqrt = shader.div_sqrt;
+        self.div_sqrt_why = why;
+        self.pipelines.lock().unwrap().clear();
+        self.compile_seconds.lock().unwrap().clear();
+        Ok(())
     }
 
     /// Load a SPIR-V module of the caller's own (e.g. built by their rust-gpu shader crate with

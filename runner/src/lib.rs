@@ -18,6 +18,7 @@
 
 pub mod backend;
 pub mod cpu;
+pub mod div_sqrt_probe;
 pub mod float_controls;
 pub mod gpu;
 pub mod shaders;

@@ -29,36 +29,67 @@ pub struct ShaderModule {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DivSqrt {
     /// `shader_core::ieee`'s correctly rounded software routines: the same bits as the CPU on
-    /// any conformant Vulkan device. The default.
+    /// any conformant Vulkan device.
     Exact,
     /// The native `OpFDiv` / GLSL.std.450 `Sqrt`: faster, correctly rounded on lavapipe, up to
-    /// 2.5 ULP off on other drivers (`HOST_DIV_SQRT=native`).
+    /// 2.5 ULP off on other drivers ([`DivSqrtChoice`] says when it is loaded).
     Native,
 }
 
 impl DivSqrt {
-    /// The variant `HOST_DIV_SQRT` asks for: unset, empty or `exact` -> [`DivSqrt::Exact`],
-    /// `native` -> [`DivSqrt::Native`], anything else an error naming the allowed values.
-    pub fn from_env() -> Result<DivSqrt, String> {
-        match std::env::var("HOST_DIV_SQRT").as_deref() {
-            Err(_) | Ok("") | Ok("exact") => Ok(DivSqrt::Exact),
-            Ok("native") => Ok(DivSqrt::Native),
-            Ok(other) => Err(format!("HOST_DIV_SQRT={other:?} is not a division/square-root variant: use exact (default) or native")),
-        }
-    }
-
     /// One phrase for reports.
     pub fn describe(self) -> &'static str {
         match self {
             DivSqrt::Exact => "div/sqrt exact (shader_core::ieee software routines)",
-            DivSqrt::Native => "div/sqrt native (OpFDiv/Sqrt, HOST_DIV_SQRT=native: exact only where the driver rounds them correctly)",
+            DivSqrt::Native => "div/sqrt native (OpFDiv/Sqrt)",
         }
     }
 }
 
-/// Load and check the embedded main module of the variant `HOST_DIV_SQRT` selects.
+/// What `HOST_DIV_SQRT` asks for: which build of the main module the GPU backend loads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DivSqrtChoice {
+    /// Unset, empty or `auto` (the default): the native build on a driver known to round
+    /// `OpFDiv` and `Sqrt` correctly (Mesa llvmpipe/lavapipe, whose whole cross-check suite CI
+    /// runs with both builds) once [`crate::div_sqrt_probe`] has found its division and square
+    /// root correctly rounded on the adapter; the exact build everywhere else.
+    Auto,
+    /// `exact`: the software routines on every adapter.
+    Exact,
+    /// `native`: the driver's division and square root on every adapter, checked or not (bit
+    /// exactness with the CPU then holds only where the driver rounds them correctly).
+    Native,
+}
+
+impl DivSqrtChoice {
+    /// Parse `HOST_DIV_SQRT`; anything but unset, empty, `auto`, `exact` or `native` is an error
+    /// naming the allowed values.
+    pub fn from_env() -> Result<DivSqrtChoice, String> {
+        match std::env::var("HOST_DIV_SQRT").as_deref() {
+            Err(_) | Ok("") | Ok("auto") => Ok(DivSqrtChoice::Auto),
+            Ok("exact") => Ok(DivSqrtChoice::Exact),
+            Ok("native") => Ok(DivSqrtChoice::Native),
+            Ok(other) => Err(format!(
+                "HOST_DIV_SQRT={other:?} is not a division/square-root choice: use auto (default), exact or native"
+            )),
+        }
+    }
+
+    /// The build to load before the adapter is known: [`DivSqrt::Native`] for `native`, else
+    /// [`DivSqrt::Exact`] (correct on every conformant device; `auto` switches to the native
+    /// build only after checking the adapter, in [`crate::Backend::select`]).
+    pub fn without_adapter(self) -> DivSqrt {
+        match self {
+            DivSqrtChoice::Native => DivSqrt::Native,
+            DivSqrtChoice::Auto | DivSqrtChoice::Exact => DivSqrt::Exact,
+        }
+    }
+}
+
+/// Load and check the embedded main module `HOST_DIV_SQRT` selects without an adapter
+/// ([`DivSqrtChoice::without_adapter`]: the exact build unless `native` is asked for).
 pub fn load() -> Result<ShaderModule, String> {
-    load_variant(DivSqrt::from_env()?)
+    load_variant(DivSqrtChoice::from_env()?.without_adapter())
 }
 
 /// Load and check the embedded main module of variant `v` against [`SOURCE_HASH`].
