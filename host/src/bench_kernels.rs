@@ -76,7 +76,8 @@ pub struct KernelRow {
     /// gpu_native_rate / gpu_rate: what exact division and square root cost.
     pub exact_slowdown: Option<f64>,
     pub wgsl_rate: Option<f64>,
-    /// gpu_native_rate / wgsl_rate (both with the driver's division and square root).
+    /// The native build's rate over the WGSL kernel's (both with the driver's division and square
+    /// root), timed in alternation: the median of the per-round ratios ([`time_paired`]).
     pub rust_gpu_over_wgsl: Option<f64>,
     /// gpu_rate / wgsl_rate (the default, exact module).
     pub exact_over_wgsl: Option<f64>,
@@ -168,9 +169,9 @@ pub fn wgsl_entry(name: &str) -> Option<&'static str> {
     WGSL_REFERENCES.iter().find(|(n, _)| *n == name).map(|(_, e)| *e)
 }
 
-/// (best rate, median rate) of a WGSL reference entry over `input` (rows of `f`'s layout),
-/// loading the reference module into `g` on first use.
-pub fn time_wgsl(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<(f64, f64)> {
+/// Load the WGSL reference module into `g` (first use) and create `entry`'s pipeline; the
+/// (args, groups) of a launch over `rows` rows of `f`'s layout.
+fn prepare_wgsl(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, rows: usize) -> Result<(EvalArgs, (u32, u32, u32))> {
     let wg = shader_kernels::WORKGROUP_SIZE as usize;
     if rows * f.inputs.len().max(f.outputs.len()) * 4 > g.max_binding_bytes() {
         bail!("--rows {rows} exceeds the adapter's storage binding size for the WGSL reference");
@@ -181,16 +182,46 @@ pub fn time_wgsl(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, inpu
     }
     g.prepare(entry, 2, 1)?;
     let (gx, gy) = groups_2d(rows.div_ceil(wg) as u32);
-    let args = EvalArgs { rows: rows as u32, groups_x: gx };
-    let mut secs = Vec::new();
-    for k in 0..=repeats {
-        let (_, t) = g.dispatch(entry, &[bytemuck::bytes_of(&args), bytemuck::cast_slice(input)], &[OutputSpec::zeroed(rows * f.outputs.len() * 4)], (gx, gy, 1))?;
-        if k > 0 {
-            secs.push(t.seconds);
-        }
+    Ok((EvalArgs { rows: rows as u32, groups_x: gx }, (gx, gy, 1)))
+}
+
+/// Seconds of one launch of WGSL reference `entry` (prepared by [`prepare_wgsl`]).
+fn wgsl_once(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &[f32], rows: usize, launch: &(EvalArgs, (u32, u32, u32))) -> Result<f64> {
+    let (args, groups) = launch;
+    let (_, t) = g.dispatch(entry, &[bytemuck::bytes_of(args), bytemuck::cast_slice(input)], &[OutputSpec::zeroed(rows * f.outputs.len() * 4)], *groups)?;
+    Ok(t.seconds)
+}
+
+/// What [`time_paired`] measures.
+#[derive(Clone, Copy, Debug)]
+pub struct PairedRates {
+    /// Best rust-gpu rate and best WGSL rate over the rounds (evaluations per second).
+    pub rust_gpu: f64,
+    pub wgsl: f64,
+    /// Median over the rounds of (rust-gpu rate / WGSL rate) within the round.
+    pub ratio: f64,
+}
+
+/// The rust-gpu kernel of `f` on `backend` (a GPU backend) and its WGSL reference `entry` on `g`
+/// (the same adapter), timed in alternation: one warm-up each, then `repeats` rounds of one run
+/// of each, so both see the same machine (on a shared machine the rate drifts by up to 2x between
+/// runs a few seconds apart, which skews a ratio of two separately timed series).
+pub fn time_paired(backend: &Backend, g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<PairedRates> {
+    let launch = prepare_wgsl(g, entry, f, rows)?;
+    backend.eval_table(f, input, rows)?;
+    wgsl_once(g, entry, f, input, rows, &launch)?;
+    let (mut ours, mut theirs, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..repeats.max(1) {
+        let o = backend.eval_table(f, input, rows)?.1.seconds;
+        let w = wgsl_once(g, entry, f, input, rows, &launch)?;
+        ours.push(o);
+        theirs.push(w);
+        ratios.push(w / o);
     }
-    let (best, med) = best_and_median(secs);
-    Ok((rows as f64 / best, rows as f64 / med))
+    let (best_o, _) = best_and_median(ours);
+    let (best_w, _) = best_and_median(theirs);
+    ratios.sort_by(f64::total_cmp);
+    Ok(PairedRates { rust_gpu: rows as f64 / best_o, wgsl: rows as f64 / best_w, ratio: ratios[ratios.len() / 2] })
 }
 
 /// Run the benchmark and write the Markdown and JSON reports.
@@ -269,10 +300,10 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
                 row.gpu_native_rate = Some(nr);
                 row.exact_slowdown = Some(nr / r);
                 if let Some(entry) = wgsl_entry(f.name) {
-                    let (w, _) = time_wgsl(n, entry, f, &input, rows, a.repeats).with_context(|| format!("timing the WGSL {}", f.name))?;
-                    row.wgsl_rate = Some(w);
-                    row.rust_gpu_over_wgsl = Some(nr / w);
-                    row.exact_over_wgsl = Some(r / w);
+                    let pr = time_paired(native.as_ref().expect("native"), n, entry, f, &input, rows, a.repeats).with_context(|| format!("timing the WGSL {}", f.name))?;
+                    row.wgsl_rate = Some(pr.wgsl);
+                    row.rust_gpu_over_wgsl = Some(pr.ratio);
+                    row.exact_over_wgsl = Some(r / pr.wgsl);
                 }
             }
         }

@@ -361,7 +361,8 @@ pub struct Measured {
     pub gpu_median_per_s: Option<f64>,
     pub gpu_timing: Option<String>,
     /// The hand-written WGSL kernel of the same formula on the same adapter (`ggx_d` only;
-    /// [`crate::bench_kernels::WGSL_REFERENCES`]), and the rust-gpu rate divided by it.
+    /// [`crate::bench_kernels::WGSL_REFERENCES`]), and the rust-gpu rate over it: the median
+    /// of the per-round ratios of the two timed in alternation ([`crate::bench_kernels::time_paired`]).
     pub wgsl_evals_per_s: Option<f64>,
     pub rust_gpu_over_wgsl: Option<f64>,
 }
@@ -440,9 +441,9 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
                 m.gpu_median_per_s = Some(rm);
                 m.gpu_timing = Some(src);
                 if let (Backend::Gpu(gc), Some(entry)) = (g, crate::bench_kernels::wgsl_entry(f.name)) {
-                    let (w, _) = crate::bench_kernels::time_wgsl(gc, entry, f, &table, a.rows, a.repeats as u32)?;
-                    m.wgsl_evals_per_s = Some(w);
-                    m.rust_gpu_over_wgsl = Some(r / w);
+                    let pr = crate::bench_kernels::time_paired(g, gc, entry, f, &table, a.rows, a.repeats as u32)?;
+                    m.wgsl_evals_per_s = Some(pr.wgsl);
+                    m.rust_gpu_over_wgsl = Some(pr.ratio);
                 }
             }
         }
@@ -571,7 +572,8 @@ fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu
         let _ = writeln!(
             s,
             "Same adapter, same rows, same run; the WGSL (`host/src/wgsl/reference.wgsl`, compiled by naga) is a speed \
-             reference only, not bit-exact. Ratio = rust-gpu rate / WGSL rate.\n"
+             reference only, not bit-exact. The two kernels are timed in alternation (one run of each per round); \
+             rates are the fastest run of each, ratio = the median over the rounds of rust-gpu rate / WGSL rate.\n"
         );
         let _ = writeln!(s, "| function | rust-gpu Mevals/s | WGSL Mevals/s | ratio |");
         let _ = writeln!(s, "| --- | ---: | ---: | ---: |");
