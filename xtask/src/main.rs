@@ -253,6 +253,8 @@ fn docs_reports(only: &[String]) -> Result<()> {
     }
     let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("target"));
     let host = target.join("release").join("host");
+    // Run it by its path relative to the workspace (the reports quote their command line).
+    let host = host.strip_prefix(&root).map(|r| PathBuf::from(".").join(r)).unwrap_or(host);
     for (name, args) in REPORTS.iter().filter(|(n, _)| only.is_empty() || only.iter().any(|o| o == n)) {
         eprintln!("[docs-reports] {name}: host {}", args.join(" "));
         let t0 = Instant::now();
