@@ -153,11 +153,14 @@ use crate::timing::best_and_median;
 /// (best rate, median rate, timing source) of `f` over `input` on `backend`: one warm-up run,
 /// then `repeats` timed runs; `tick` is called after each run (a progress bar's step).
 pub fn time_eval(backend: &Backend, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32, tick: &dyn Fn()) -> Result<(f64, f64, String)> {
-    let (_, warm) = backend.eval_table(f, input, rows)?;
+    // One output buffer for every run, as a program evaluating repeatedly would keep it: the CPU
+    // backend's time is then the evaluation's, not the allocator's and the page faults'.
+    let mut out = Vec::new();
+    let warm = backend.eval_table_into(f, input, rows, &mut out)?;
     tick();
     let mut secs = Vec::new();
     for _ in 0..repeats {
-        secs.push(backend.eval_table(f, input, rows)?.1.seconds);
+        secs.push(backend.eval_table_into(f, input, rows, &mut out)?.seconds);
         tick();
     }
     let (best, med) = best_and_median(secs);
@@ -208,11 +211,12 @@ pub struct PairedRates {
 /// runs a few seconds apart, which skews a ratio of two separately timed series).
 pub fn time_paired(backend: &Backend, g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<PairedRates> {
     let launch = prepare_wgsl(g, entry, f, rows)?;
-    backend.eval_table(f, input, rows)?;
+    let mut out = Vec::new();
+    backend.eval_table_into(f, input, rows, &mut out)?;
     wgsl_once(g, entry, f, input, rows, &launch)?;
     let (mut ours, mut theirs, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..repeats.max(1) {
-        let o = backend.eval_table(f, input, rows)?.1.seconds;
+        let o = backend.eval_table_into(f, input, rows, &mut out)?.seconds;
         let w = wgsl_once(g, entry, f, input, rows, &launch)?;
         ours.push(o);
         theirs.push(w);

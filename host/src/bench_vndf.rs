@@ -188,14 +188,16 @@ use crate::timing::median;
 fn time_backend(backend: &Backend, fs: &[&FunctionInfo], table: &[f32], repeats: usize) -> Result<(Vec<f64>, String)> {
     let rows = table.len() / 7;
     let mut source = String::new();
-    for &f in fs {
-        let (_, warm) = backend.eval_table(f, table, rows)?;
+    // One output buffer per function, reused by every run (bench_kernels::time_eval says why).
+    let mut outs = vec![Vec::new(); fs.len()];
+    for (k, &f) in fs.iter().enumerate() {
+        let warm = backend.eval_table_into(f, table, rows, &mut outs[k])?;
         source = warm.source.to_string();
     }
     let mut secs = vec![Vec::with_capacity(repeats); fs.len()];
     for _ in 0..repeats {
         for (k, &f) in fs.iter().enumerate() {
-            let (_, t) = backend.eval_table(f, table, rows)?;
+            let t = backend.eval_table_into(f, table, rows, &mut outs[k])?;
             secs[k].push(t.seconds);
         }
     }

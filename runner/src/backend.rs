@@ -114,25 +114,40 @@ impl Backend {
     /// values, row-major), returning `rows * f.outputs.len()` outputs and the time taken. The GPU
     /// runs `f`'s own entry point; the CPU runs its batch loop on all cores.
     pub fn eval_table(&self, f: &FunctionInfo, input: &[f32], rows: usize) -> Result<(Vec<f32>, Timing)> {
+        let mut out = Vec::new();
+        let t = self.eval_table_into(f, input, rows, &mut out)?;
+        Ok((out, t))
+    }
+
+    /// [`Backend::eval_table`] into `out`, which is resized to `rows * f.outputs.len()` values;
+    /// the CPU backend writes into it in place, so evaluating repeatedly with one `out` allocates
+    /// (and page-faults) its memory once, not on every call. Returns the time taken (the CPU: the
+    /// evaluation's wall clock, buffer resizing excluded).
+    pub fn eval_table_into(&self, f: &FunctionInfo, input: &[f32], rows: usize, out: &mut Vec<f32>) -> Result<Timing> {
         let (in_stride, out_stride) = (f.inputs.len(), f.outputs.len());
         if input.len() != rows * in_stride {
             bail!("{}: input has {} values, expected {rows} rows x {in_stride} columns", f.name, input.len());
         }
         match self {
             Backend::Cpu => {
+                if out.len() != rows * out_stride {
+                    out.clear();
+                    out.resize(rows * out_stride, 0.0);
+                }
                 let t0 = Instant::now();
-                let out = crate::cpu::eval_table(f, input, rows);
-                Ok((out, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock }))
+                crate::cpu::eval_table_into(f, input, rows, out);
+                Ok(Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock })
             }
             Backend::Gpu(g) => {
+                out.clear();
                 if rows == 0 {
-                    return Ok((Vec::new(), Timing { seconds: 0.0, source: TimingSource::WallClock }));
+                    return Ok(Timing { seconds: 0.0, source: TimingSource::WallClock });
                 }
                 let wg = shader_kernels::WORKGROUP_SIZE as usize;
                 let max_bytes = g.max_binding_bytes();
                 let per_row = 4 * in_stride.max(out_stride).max(1);
                 let chunk_rows = (max_bytes / per_row).min(65535 * 65535 * wg).max(wg);
-                let mut out = Vec::with_capacity(rows * out_stride);
+                out.reserve(rows * out_stride);
                 let mut total: Option<Timing> = None;
                 let mut start = 0;
                 while start < rows {
@@ -152,10 +167,11 @@ impl Backend {
                     total = Some(match total { Some(a) => a.add(t), None => t });
                     start += n;
                 }
-                Ok((out, total.expect("at least one dispatch")))
+                Ok(total.expect("at least one dispatch"))
             }
         }
     }
+
     /// Run kernel `entry` over invocations `0..count`, each writing `stride` floats, on this
     /// backend: the GPU dispatches the entry point (bindings: `args`, then `inputs` read-only,
     /// then the output), the CPU calls `cpu(args, i, out)` for every invocation on all cores,
