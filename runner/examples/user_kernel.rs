@@ -24,8 +24,9 @@ fn ggx_d_normal(@builtin(global_invocation_id) id: vec3<u32>) {
 "#;
 
 fn main() -> anyhow::Result<()> {
-    let shader = runner::shaders::load().map_err(anyhow::Error::msg)?;
-    let gpu = match GpuContext::new(&shader) {
+    // The adapter with the build of the built-in kernels HOST_DIV_SQRT chooses (auto: the native
+    // division where the driver rounds it correctly, else the exact software routines).
+    let gpu = match GpuContext::with_div_sqrt_choice() {
         Ok(g) => g,
         Err(GpuError::NoAdapter) => {
             eprintln!("no Vulkan adapter: install one (e.g. lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)");
