@@ -12,8 +12,10 @@ use std::time::Instant;
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum DeviceChoice {
     /// A hardware GPU (discrete, integrated or virtual Vulkan adapter) when there is one, else
-    /// the native CPU backend; a software Vulkan adapter (lavapipe) only with `gpu`, because the
-    /// native CPU backend runs the same kernels much faster than lavapipe. Says on one line which
+    /// the native CPU backend; a software Vulkan adapter (lavapipe) only with `gpu`, because it
+    /// runs on the same CPU cores and is not faster overall (the path tracer about 20x slower,
+    /// eval functions and SSR passes either way, the energy precompute faster: docs/kernels.md,
+    /// docs/render.md). Says on one line which
     /// it chose and why. With HOST_ADAPTER set, the adapter it names. Benchmarks, which always
     /// time the CPU backend, take any Vulkan adapter (lavapipe included) for their GPU column.
     Auto,
@@ -58,7 +60,7 @@ impl Backend {
                     "no Vulkan adapter (install one, e.g. Mesa lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)".to_string()
                 } else {
                     let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
-                    format!("no hardware GPU, only the software adapter(s) {} (slower than the CPU backend; --device gpu uses them)", names.join(", "))
+                    format!("no hardware GPU, only the software adapter(s) {} (it runs on the same CPU cores and is not faster overall; --device gpu uses it)", names.join(", "))
                 };
                 eprintln!("--device auto: CPU backend ({} threads): {why}", crate::cpu::threads());
                 Ok(Backend::Cpu)
