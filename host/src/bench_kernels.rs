@@ -198,8 +198,7 @@ fn wgsl_once(g: &crate::gpu::GpuContext, entry: &str, f: &FunctionInfo, input: &
 /// What [`time_paired`] measures.
 #[derive(Clone, Copy, Debug)]
 pub struct PairedRates {
-    /// Best rust-gpu rate and best WGSL rate over the rounds (evaluations per second).
-    pub rust_gpu: f64,
+    /// Best WGSL rate over the rounds (evaluations per second).
     pub wgsl: f64,
     /// Median over the rounds of (rust-gpu rate / WGSL rate) within the round.
     pub ratio: f64,
@@ -214,18 +213,16 @@ pub fn time_paired(backend: &Backend, g: &crate::gpu::GpuContext, entry: &str, f
     let mut out = Vec::new();
     backend.eval_table_into(f, input, rows, &mut out)?;
     wgsl_once(g, entry, f, input, rows, &launch)?;
-    let (mut ours, mut theirs, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut theirs, mut ratios) = (Vec::new(), Vec::new());
     for _ in 0..repeats.max(1) {
         let o = backend.eval_table_into(f, input, rows, &mut out)?.seconds;
         let w = wgsl_once(g, entry, f, input, rows, &launch)?;
-        ours.push(o);
         theirs.push(w);
         ratios.push(w / o);
     }
-    let (best_o, _) = best_and_median(ours);
     let (best_w, _) = best_and_median(theirs);
     ratios.sort_by(f64::total_cmp);
-    Ok(PairedRates { rust_gpu: rows as f64 / best_o, wgsl: rows as f64 / best_w, ratio: ratios[ratios.len() / 2] })
+    Ok(PairedRates { wgsl: rows as f64 / best_w, ratio: ratios[ratios.len() / 2] })
 }
 
 /// Run the benchmark and write the Markdown and JSON reports.

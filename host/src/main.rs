@@ -222,10 +222,14 @@ fn info(device: DeviceChoice) -> Result<()> {
     let backend = Backend::select(device)?;
     println!("--device {:?} selects: {}", device, backend.describe());
     if let Backend::Gpu(g) = &backend {
-        // Whatever auto chose: is the native build's division correctly rounded here?
-        let native = host::shaders::load_variant(host::shaders::DivSqrt::Native).map_err(anyhow::Error::msg)?;
-        let n = host::gpu::GpuContext::new(&native)?;
-        let p = host::div_sqrt_probe::run(&n)?;
+        // Whatever auto chose: is the native build's division correctly rounded here? (Probed on
+        // the loaded context when it holds the native build, else on a second one.)
+        let p = if g.div_sqrt == host::shaders::DivSqrt::Native {
+            host::div_sqrt_probe::run(g)?
+        } else {
+            let native = host::shaders::load_variant(host::shaders::DivSqrt::Native).map_err(anyhow::Error::msg)?;
+            host::div_sqrt_probe::run(&host::gpu::GpuContext::new(&native)?)?
+        };
         match p.first {
             None => println!("native build's OpFDiv/Sqrt on {}: correctly rounded on all {} probe rows", g.info.name, p.rows),
             Some(first) => println!("native build's OpFDiv/Sqrt on {}: differ from correctly rounded on {} of {} probe rows, first: {first}", g.info.name, p.differing, p.rows),

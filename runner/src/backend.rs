@@ -133,8 +133,9 @@ impl Backend {
         match self {
             Backend::Cpu => {
                 if out.len() != rows * out_stride {
-                    out.clear();
-                    out.resize(rows * out_stride, 0.0);
+                    // A fresh zeroed allocation (lazily zeroed pages), not a memset on this thread
+                    // before the batch loops overwrite every value anyway.
+                    *out = vec![0.0; rows * out_stride];
                 }
                 let t0 = Instant::now();
                 crate::cpu::eval_table_into(f, input, rows, out);

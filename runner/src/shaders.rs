@@ -77,7 +77,7 @@ impl DivSqrtChoice {
 
     /// The build to load before the adapter is known: [`DivSqrt::Native`] for `native`, else
     /// [`DivSqrt::Exact`] (correct on every conformant device; `auto` switches to the native
-    /// build only after checking the adapter, in [`crate::Backend::select`]).
+    /// build only after checking the adapter, in [`crate::gpu::GpuContext::with_div_sqrt_choice`]).
     pub fn without_adapter(self) -> DivSqrt {
         match self {
             DivSqrtChoice::Native => DivSqrt::Native,

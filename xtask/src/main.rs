@@ -501,15 +501,18 @@ fn test(install_lavapipe: bool, rest: &[String]) -> Result<()> {
             );
         }
     }
-    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cmd.current_dir(&root)
-        .args(["test", "--workspace", "--release", "--no-fail-fast"])
-        .args(rest);
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-        let dir = std::env::temp_dir().join("xdg-runtime");
-        std::fs::create_dir_all(&dir)?;
-        cmd.env("XDG_RUNTIME_DIR", dir);
-    }
+    // `cargo test` in the workspace, with an XDG_RUNTIME_DIR for the Vulkan loader.
+    let cargo_test = |args: &[&str]| -> Result<Command> {
+        let mut c = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+        c.current_dir(&root).arg("test").args(args).args(rest);
+        if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+            let dir = std::env::temp_dir().join("xdg-runtime");
+            std::fs::create_dir_all(&dir)?;
+            c.env("XDG_RUNTIME_DIR", dir);
+        }
+        Ok(c)
+    };
+    let mut cmd = cargo_test(&["--workspace", "--release", "--no-fail-fast"])?;
     eprintln!("[test] cargo test --workspace --release --no-fail-fast {}", rest.join(" "));
     let status = cmd.status().context("running cargo test")?;
     // The GPU backend loads the native build where the driver rounds division and square root
@@ -518,15 +521,8 @@ fn test(install_lavapipe: bool, rest: &[String]) -> Result<()> {
     // HOST_DIV_SQRT choice is left alone: the user asked for one build.
     let mut exact_ok = true;
     if matches!(std::env::var("HOST_DIV_SQRT").as_deref(), Err(_) | Ok("") | Ok("auto")) {
-        let mut again = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-        again
-            .current_dir(&root)
-            .env("HOST_DIV_SQRT", "exact")
-            .args(["test", "--release", "-p", "crosscheck", "--no-fail-fast"])
-            .args(rest);
-        if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-            again.env("XDG_RUNTIME_DIR", std::env::temp_dir().join("xdg-runtime"));
-        }
+        let mut again = cargo_test(&["--release", "-p", "crosscheck", "--no-fail-fast"])?;
+        again.env("HOST_DIV_SQRT", "exact");
         eprintln!("[test] HOST_DIV_SQRT=exact cargo test --release -p crosscheck --no-fail-fast {} (the CPU-vs-GPU comparisons with the software division and square root)", rest.join(" "));
         exact_ok = again.status().context("running cargo test")?.success();
     }
