@@ -52,6 +52,9 @@ pub struct GpuContext {
     /// Modules added at run time (the benches' WGSL speed references) and their entry points.
     extra_modules: Mutex<Vec<(wgpu::ShaderModule, Vec<String>)>>,
     pipelines: Mutex<HashMap<(String, usize, usize), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>>,
+    /// Each SPIR-V entry point's uniform-buffer bindings (its parameter record, e.g. the SSR
+    /// passes' `SsrParams`); every other binding is a storage buffer.
+    uniforms: Mutex<HashMap<String, Vec<u32>>>,
     /// Seconds the driver took to create each entry point's pipeline (its compile), first use.
     compile_seconds: Mutex<HashMap<String, f64>>,
 }
@@ -125,11 +128,13 @@ impl GpuContext {
         // build) and its manifest was checked against the sources; bindings are declared
         // explicitly in `pipeline()` to match the entry points' signatures.
         let module = unsafe { spirv_module(&device, "shader-kernels", &words, &shader.manifest.entry_points, passthrough)? };
+        let mut uniforms = uniform_bindings(&words)?;
         let subgroup_module = if subgroups {
             let sg = crate::shaders::load_subgroup().map_err(GpuError::Shader)?;
             let sg_words = denorm_policy.apply(&sg.words).map_err(GpuError::Shader)?;
             // SAFETY: as for the main module (rust-gpu output, spirv-val'd, manifest checked).
             let m = unsafe { spirv_module(&device, "shader-kernels-subgroup", &sg_words, &sg.manifest.entry_points, true)? };
+            uniforms.extend(uniform_bindings(&sg_words)?);
             Some((m, sg.manifest.entry_points.clone()))
         } else {
             None
@@ -149,6 +154,7 @@ impl GpuContext {
             subgroup_module,
             extra_modules: Mutex::new(Vec::new()),
             pipelines: Mutex::new(HashMap::new()),
+            uniforms: Mutex::new(uniforms),
             compile_seconds: Mutex::new(HashMap::new()),
         })
     }
@@ -220,6 +226,7 @@ impl GpuContext {
         // SAFETY: as in `new` (rust-gpu output, spirv-val'd, manifest checked).
         self.module = unsafe { spirv_module(&self.device, "shader-kernels", &words, &shader.manifest.entry_points, self.passthrough)? };
         self.entry_points = shader.manifest.entry_points.clone();
+        self.uniforms.lock().unwrap().extend(uniform_bindings(&words)?);
         self.div_sqrt = shader.div_sqrt;
         self.div_sqrt_why = why;
         self.pipelines.lock().unwrap().clear();
@@ -236,6 +243,7 @@ impl GpuContext {
         // SAFETY: the caller vouches for the module (as for the built-in one: a valid SPIR-V
         // compute module whose bindings are storage buffers in the order dispatched).
         let m = unsafe { spirv_module(&self.device, label, words, &names, self.passthrough)? };
+        self.uniforms.lock().unwrap().extend(uniform_bindings(words)?);
         self.extra_modules.lock().unwrap().push((m, names));
         Ok(())
     }
@@ -276,21 +284,32 @@ impl GpuContext {
     }
 
     /// Create (once) and return the pipeline of `entry` with `n_read` read-only then `n_write`
-    /// read-write storage bindings. The first creation's driver compile time is recorded
-    /// ([`GpuContext::compile_seconds`]).
+    /// read-write bindings: storage buffers, except those the entry point declares as uniform
+    /// buffers (which must be among the read-only ones). The first creation's driver compile time
+    /// is recorded ([`GpuContext::compile_seconds`]).
     fn pipeline(&self, entry: &str, n_read: usize, n_write: usize) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
         let key = (entry.to_string(), n_read, n_write);
         if let Some(p) = self.pipelines.lock().unwrap().get(&key) {
             return Ok(p.clone());
         }
         let module = self.module_for(entry)?;
+        let uniform = self.uniforms.lock().unwrap().get(entry).cloned().unwrap_or_default();
+        if let Some(b) = uniform.iter().find(|&&b| b as usize >= n_read) {
+            return Err(GpuError::Shader(format!(
+                "{entry}: binding {b} is a uniform buffer but the dispatch binds only {n_read} read-only buffers before its read-write ones"
+            )));
+        }
         let t0 = Instant::now();
         let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..n_read + n_write)
             .map(|i| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
                 visibility: wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: i < n_read },
+                    ty: if uniform.contains(&(i as u32)) {
+                        wgpu::BufferBindingType::Uniform
+                    } else {
+                        wgpu::BufferBindingType::Storage { read_only: i < n_read }
+                    },
                     has_dynamic_offset: false,
                     min_binding_size: None,
                 },
@@ -336,7 +355,7 @@ impl GpuContext {
     }
 
     /// Run entry point `entry` once over `groups` workgroups with bindings 0.. = `inputs`
-    /// (read-only storage) followed by `outputs.len()` read-write storage buffers of the given
+    /// (read-only: storage, or uniform where the entry point declares one) followed by `outputs.len()` read-write storage buffers of the given
     /// byte sizes (zero-initialized, or copied from `init` where given), and read the outputs
     /// back: a one-pass [`GpuContext::dispatch_chain`].
     pub fn dispatch(
@@ -359,7 +378,7 @@ impl GpuContext {
     }
 
     /// Run several passes in one command buffer, buffers staying on the device between them (no
-    /// host round trip): each pass binds `reads` (read-only storage, bindings 0..) then `writes`
+    /// host round trip): each pass binds `reads` (read-only: storage or, where the entry point declares one, uniform; bindings 0..) then `writes`
     /// (read-write) from `buffers`, and is dispatched directly or indirectly from a buffer the
     /// earlier passes wrote. Returns the contents of the buffers marked `read_back` (None for the
     /// others) and each pass's time (timestamp queries where the adapter has them, else the whole
@@ -376,7 +395,8 @@ impl GpuContext {
         let mut bufs = Vec::with_capacity(buffers.len());
         let mut readbacks: Vec<Option<(wgpu::Buffer, usize)>> = Vec::with_capacity(buffers.len());
         for (i, b) in buffers.iter().enumerate() {
-            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::INDIRECT;
+            // UNIFORM too: a read may be an entry point's uniform binding (its parameter record).
+            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::INDIRECT;
             let label = format!("chain buffer {i}");
             let (buf, read_size) = match b {
                 ChainBuffer::Input(data) => (
@@ -552,6 +572,12 @@ unsafe fn spirv_module(device: &wgpu::Device, label: &str, words: &[u32], entrie
             device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::SpirV(Cow::Borrowed(words)) })
         }
     })
+}
+
+/// Each entry point's uniform-buffer bindings in a SPIR-V module
+/// ([`shader_manifest::uniform_bindings`]).
+fn uniform_bindings(words: &[u32]) -> Result<HashMap<String, Vec<u32>>, GpuError> {
+    Ok(shader_manifest::uniform_bindings(words).map_err(GpuError::Shader)?.into_iter().collect())
 }
 
 /// A buffer of [`GpuContext::dispatch_chain`]: uploaded input, or a device buffer the passes

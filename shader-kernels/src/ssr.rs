@@ -6,9 +6,11 @@
 //!
 //! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` = [invocations,
 //! groups in x, pass-specific...]; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
-//! `consts` is the [`SsrParams`] record (`shader_core::ssr::params`), bound as it is and copied
-//! into the invocation once (reading its fields through the binding at every use made the passes
-//! 2-5x slower on lavapipe).
+//! `consts` is the [`SsrParams`] record (`shader_core::ssr::params`), bound as it is as a uniform
+//! buffer (its layout is std140's: 4-byte scalars, then 16-byte-aligned matrices of 16-byte rows)
+//! and copied into the invocation once. Uniform, not storage: llvmpipe (Mesa 22) loads a storage
+//! buffer one lane at a time in a loop, also at an address every lane shares, but a uniform
+//! buffer's constant-offset field once for all lanes.
 
 use crate::invocation;
 use shader_core::ssr::params::{mip_size, SsrParams};
@@ -181,7 +183,7 @@ pub fn specular_term(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32
 pub fn ssr_hiz_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
@@ -196,7 +198,7 @@ pub fn ssr_hiz_downsample(
 pub fn ssr_color_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
@@ -215,7 +217,7 @@ pub fn ssr_color_downsample(
 pub fn ssr_hdrp_emit(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] offsets: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [f32],
@@ -232,7 +234,7 @@ pub fn ssr_hdrp_emit(
 pub fn ssr_hdrp_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
@@ -249,7 +251,7 @@ pub fn ssr_hdrp_trace(
 pub fn ssr_ray_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &mut [f32],
@@ -265,7 +267,7 @@ pub fn ssr_ray_hits(
 pub fn ssr_hdrp_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
@@ -283,7 +285,7 @@ pub fn ssr_hdrp_hits(
 pub fn ssr_hdrp_reproject(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -304,7 +306,7 @@ pub fn ssr_hdrp_reproject(
 pub fn ssr_hdrp_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -323,7 +325,7 @@ pub fn ssr_hdrp_resolve(
 pub fn sssr_classify(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] tiles: &mut [f32],
 ) {
@@ -339,7 +341,7 @@ pub fn sssr_classify(
 pub fn sssr_emit(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] ray_offsets: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixel_offsets: &[f32],
@@ -357,7 +359,7 @@ pub fn sssr_emit(
 pub fn sssr_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
@@ -375,7 +377,7 @@ pub fn sssr_trace(
 pub fn sssr_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
@@ -394,7 +396,7 @@ pub fn sssr_hits(
 pub fn sssr_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -413,7 +415,7 @@ pub fn sssr_resolve(
 pub fn sssr_temporal(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] prev_gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hit_distance: &[f32],
@@ -434,7 +436,7 @@ pub fn sssr_temporal(
 pub fn sssr_hit_distance(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &[f32],
@@ -453,7 +455,7 @@ pub fn sssr_hit_distance(
 pub fn ssr_specular(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] base_color: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] lut: &[f32],

@@ -477,6 +477,41 @@ pub fn inexact_float_instructions(words: &[u32]) -> Result<Vec<(String, usize)>,
     Ok(counts.into_iter().collect())
 }
 
+const OP_VARIABLE: u32 = 59;
+const DECORATION_BINDING: u32 = 33;
+const STORAGE_CLASS_UNIFORM: u32 = 2;
+
+/// The bindings of each entry point that are uniform buffers (`Uniform` storage class: a
+/// `#[spirv(uniform)]` parameter), as (entry point name, sorted binding numbers); every other
+/// binding of the project's kernels is a storage buffer. Needs SPIR-V 1.4 or later, whose entry
+/// points list every global variable they use (rust-gpu's `vulkan1.2` target emits 1.5).
+pub fn uniform_bindings(words: &[u32]) -> Result<Vec<(String, Vec<u32>)>, String> {
+    let insts = instructions(words)?;
+    let mut binding = std::collections::HashMap::new();
+    let mut uniform = std::collections::HashSet::new();
+    for (op, r) in &insts {
+        if *op == OP_DECORATE && r.len() >= 4 && words[r.start + 2] == DECORATION_BINDING {
+            binding.insert(words[r.start + 1], words[r.start + 3]);
+        } else if *op == OP_VARIABLE && r.len() >= 4 && words[r.start + 3] == STORAGE_CLASS_UNIFORM {
+            uniform.insert(words[r.start + 2]);
+        }
+    }
+    let mut out = Vec::new();
+    for (op, r) in &insts {
+        if *op != OP_ENTRY_POINT || r.len() < 4 {
+            continue;
+        }
+        let name_words = &words[r.start + 3..r.end];
+        // The name's words end with the one holding its nul byte; the interface ids follow.
+        let name_len = name_words.iter().position(|w| w.to_le_bytes().contains(&0)).map_or(name_words.len(), |k| k + 1);
+        let mut bindings: Vec<u32> =
+            name_words[name_len..].iter().filter(|id| uniform.contains(id)).filter_map(|id| binding.get(id).copied()).collect();
+        bindings.sort_unstable();
+        out.push((spirv_string(name_words), bindings));
+    }
+    Ok(out)
+}
+
 /// A nul-terminated SPIR-V literal string.
 fn spirv_string(words: &[u32]) -> String {
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
@@ -510,6 +545,25 @@ mod spirv_tests {
         assert_eq!(&out[8..14], &[(3 << 16) | 71, 3, 42, (3 << 16) | 71, 6, 42]);
         assert_eq!(decorate_no_contraction(&out).unwrap(), out, "idempotent");
         assert!(decorate_no_contraction(&[1, 2, 3]).is_err());
+    }
+
+    #[test]
+    fn finds_each_entry_points_uniform_bindings() {
+        // OpEntryPoint GLCompute %5 "abcd" %7 %8; OpEntryPoint GLCompute %6 "b" %9;
+        // OpDecorate %7 Binding 1, %8 Binding 0, %9 Binding 1; %7 Uniform, %8 and %9 StorageBuffer (12).
+        let words = vec![
+            0x0723_0203, 0x0001_0500, 0, 10, 0,
+            (7 << 16) | 15, 5, 5, u32::from_le_bytes(*b"abcd"), 0, 7, 8,
+            (5 << 16) | 15, 5, 6, u32::from_le_bytes(*b"b\0\0\0"), 9,
+            (4 << 16) | 71, 7, 33, 1,
+            (4 << 16) | 71, 8, 33, 0,
+            (4 << 16) | 71, 9, 33, 1,
+            (4 << 16) | 59, 3, 7, 2,
+            (4 << 16) | 59, 4, 8, 12,
+            (4 << 16) | 59, 4, 9, 12,
+        ];
+        assert_eq!(uniform_bindings(&words).unwrap(), vec![("abcd".to_string(), vec![1]), ("b".to_string(), vec![])]);
+        assert!(uniform_bindings(&[0x0723_0203]).is_err());
     }
 
     #[test]
