@@ -64,6 +64,10 @@ pub enum BenchWhat {
     /// rust-gpu / hand-written WGSL rate ratio for ggx_d and sample_vndf_heitz. Writes
     /// out/kernel-rates.md and .json.
     Kernels(crate::bench_kernels::KernelsArgs),
+    /// What reading a storage buffer costs the GPU backend's adapter against the CPU reading
+    /// the same values (hand-written WGSL kernels, no shading math): the floor under the kernels
+    /// that do little arithmetic per value read. Writes out/storage-bench.md and .json.
+    Storage(crate::bench_storage::StorageArgs),
     /// Rays per second of the path tracer (CPU backend on all threads and one, GPU backend, with
     /// bit-identical images checked), cost against scene size (1k / 30k / 300k triangles), time
     /// to a given error at 512x512, and memory. Writes out/render-bench.md and .json.
@@ -105,6 +109,7 @@ impl BenchCli {
             BenchWhat::Microfacet(a) => run(&a),
             BenchWhat::Vndf(a) => crate::bench_vndf::run(&a),
             BenchWhat::Kernels(a) => crate::bench_kernels::run(&a),
+            BenchWhat::Storage(a) => crate::bench_storage::run(&a),
             BenchWhat::Render(a) => crate::render::bench::run(&a),
         }
     }

@@ -17,6 +17,7 @@ pub mod render;
 pub mod report;
 pub mod ssr;
 pub mod bench_kernels;
+pub mod bench_storage;
 pub mod bench_microfacet;
 pub mod bench_vndf;
 pub mod ggx_fp16;

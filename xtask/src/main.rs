@@ -222,6 +222,7 @@ const REPORTS: &[(&str, &[&str])] = &[
         ],
     ),
     ("kernels", &["bench", "kernels", "--device", "gpu", "--rows", "1048576", "--repeats", "5", "--output", "docs/kernel-rates.md"]),
+    ("storage", &["bench", "storage", "--repeats", "5", "--output", "docs/storage-bench.md"]),
     ("energy", &["energy", "bench", "--device", "auto", "--report", "docs/energy-bench.md"]),
     ("render", &["bench", "render", "--device", "auto", "--report", "docs/render-bench.md"]),
     ("furnace", &["energy", "furnace", "--device", "auto", "--spheres", "11", "--size", "64", "--samples", "256", "-o", "out/docs-reports/energy-furnace.exr"]),
