@@ -6,11 +6,9 @@
 //!
 //! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` = [invocations,
 //! groups in x, pass-specific...]; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
-//! `consts` is the [`SsrParams`] record (`shader_core::ssr::params`), bound as it is as a uniform
-//! buffer (its layout is std140's: 4-byte scalars, then 16-byte-aligned matrices of 16-byte rows)
-//! and copied into the invocation once. Uniform, not storage: llvmpipe (Mesa 22) loads a storage
-//! buffer one lane at a time in a loop, also at an address every lane shares, but a uniform
-//! buffer's constant-offset field once for all lanes.
+//! `consts` holds the [`SsrParams`] record (`shader_core::ssr::params`) as it is, in a uniform
+//! buffer (its layout is std140's: 4-byte scalars, then 16-byte-aligned matrices of 16-byte rows),
+//! read into the invocation once by [`params`].
 
 use crate::invocation;
 use shader_core::ssr::params::{mip_size, SsrParams};
@@ -23,6 +21,22 @@ use shader_core::vector::Vec3;
 use spirv_std::glam::UVec3;
 use spirv_std::arch::workgroup_memory_barrier_with_group_sync;
 use spirv_std::spirv;
+
+/// The dispatch's parameter record: `consts[id.z]` (every SSR dispatch is one layer deep, so
+/// z = 0 and `consts` holds one record). Why a uniform buffer, and why indexed by z, on llvmpipe
+/// (Mesa 22.3; `host bench storage` measures the first point):
+/// * it reads a storage buffer one lane at a time in a loop with two branches per lane, at an
+///   address every lane shares too (a ~30-field record cost the SSR passes up to 40 % of their
+///   time); a uniform buffer's field is one load per 8 lanes;
+/// * it specializes a kernel on up to four uniform-buffer fields read at constant offsets (those
+///   that decide branches and loops) by compiling it again with their values at every dispatch
+///   (5-10 ms each at 128x128); an offset that depends on the dispatch is not one it inlines.
+///
+/// The CPU launcher passes the record itself; nothing else differs.
+#[inline]
+fn params(id: UVec3, consts: &[SsrParams; 1]) -> SsrParams {
+    consts[id.z as usize]
+}
 
 /// Depth pyramid, invocation `i` of mip `level`: (its texel's index in `pyr`, value). Level 0
 /// converts the linear depth in place to device depth ([`trace::device_depth`]; invocations
@@ -183,11 +197,11 @@ pub fn specular_term(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32
 pub fn ssr_hiz_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     let level = args[2];
     let (j, v) = hiz_downsample(&p, pyr, level, i);
     pyr[j as usize] = v;
@@ -198,11 +212,11 @@ pub fn ssr_hiz_downsample(
 pub fn ssr_color_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     let level = args[2];
     let c = color_downsample(&p, pyr, level, i);
     let b = ((trace::p_mip_offset(&p, level) + i) as usize) * COLOR_STRIDE;
@@ -217,13 +231,13 @@ pub fn ssr_color_downsample(
 pub fn ssr_hdrp_emit(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] offsets: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     hdrp_emit(&p, gbuf, offsets, i, pixels);
 }
 
@@ -234,14 +248,14 @@ pub fn ssr_hdrp_emit(
 pub fn ssr_hdrp_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     hdrp_trace(&p, gbuf, depth_pyr, pixels, k, rays, true);
 }
 
@@ -251,13 +265,13 @@ pub fn ssr_hdrp_trace(
 pub fn ssr_ray_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     hits::hit_record_slot(&p, gbuf, rays, i, hits, (i as usize) * HIT_STRIDE);
 }
 
@@ -267,14 +281,14 @@ pub fn ssr_ray_hits(
 pub fn ssr_hdrp_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     hdrp_hits(&p, gbuf, rays, pixels, k, hits, true);
 }
 
@@ -285,7 +299,7 @@ pub fn ssr_hdrp_hits(
 pub fn ssr_hdrp_reproject(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -293,7 +307,7 @@ pub fn ssr_hdrp_reproject(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, out, true);
 }
 
@@ -306,7 +320,7 @@ pub fn ssr_hdrp_reproject(
 pub fn ssr_hdrp_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -315,7 +329,7 @@ pub fn ssr_hdrp_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     hdrp_resolve(&p, gbuf, color_pyr, rays, hits, args[2], pixels, k, out, true);
 }
 
@@ -325,12 +339,12 @@ pub fn ssr_hdrp_resolve(
 pub fn sssr_classify(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] tiles: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     classify(&p, gbuf, i, tiles, (i as usize) * stochastic::TILE_STRIDE);
 }
 
@@ -341,7 +355,7 @@ pub fn sssr_classify(
 pub fn sssr_emit(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] ray_offsets: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixel_offsets: &[f32],
@@ -349,7 +363,7 @@ pub fn sssr_emit(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     emit(&p, gbuf, ray_offsets, pixel_offsets, i, list, pixels);
 }
 
@@ -359,14 +373,14 @@ pub fn sssr_emit(
 pub fn sssr_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     sssr_trace_entry(&p, gbuf, depth_pyr, list, k, rays, true);
 }
 
@@ -377,14 +391,14 @@ pub fn sssr_trace(
 pub fn sssr_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     sssr_hits_entry(&p, gbuf, rays, list, k, hits, true);
 }
 
@@ -396,7 +410,7 @@ pub fn sssr_hits(
 pub fn sssr_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -405,7 +419,7 @@ pub fn sssr_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, out, true);
 }
 
@@ -415,7 +429,7 @@ pub fn sssr_resolve(
 pub fn sssr_temporal(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] prev_gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hit_distance: &[f32],
@@ -424,7 +438,7 @@ pub fn sssr_temporal(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     temporal(&p, gbuf, prev_gbuf, hit_distance, current, history, i, out, (i as usize) * stochastic::HISTORY_STRIDE);
 }
 
@@ -436,7 +450,7 @@ pub fn sssr_temporal(
 pub fn sssr_hit_distance(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &[f32],
@@ -444,7 +458,7 @@ pub fn sssr_hit_distance(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some(k) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, out, true);
 }
 
@@ -455,7 +469,7 @@ pub fn sssr_hit_distance(
 pub fn ssr_specular(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
-    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &SsrParams,
+    #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] base_color: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] lut: &[f32],
@@ -463,7 +477,7 @@ pub fn ssr_specular(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some(i) = invocation(id, args) else { return };
-    let p = *consts;
+    let p = params(id, consts);
     specular_term(&p, gbuf, base_color, lut, reflection, i, out, (i as usize) * specular::SPECULAR_STRIDE);
 }
 
