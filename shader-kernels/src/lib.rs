@@ -31,14 +31,6 @@ use spirv_std::glam::UVec3;
 /// rows are numbered `x + y * groups_x * WORKGROUP_SIZE`.
 pub const WORKGROUP_SIZE: u32 = 64;
 
-#[cfg_attr(feature = "subgroup-module", allow(dead_code))]
-/// The invocation index of a 1D kernel dispatched as 2D groups (`args` = [count, groups in x,
-/// ...]), or `None` past the end of the work.
-#[inline]
-pub(crate) fn invocation(id: UVec3, args: &[u32]) -> Option<u32> {
-    invocation_index(id, args[0], args[1])
-}
-
 /// The invocation index `id.x + id.y * groups_x * WORKGROUP_SIZE` of a 1D kernel dispatched as
 /// 2D groups, or `None` at or past `count`: the one mapping every 1D entry point uses.
 #[inline(always)]

@@ -4,13 +4,12 @@
 //! entry point calls it after checking the invocation range, the host's CPU backend calls the same
 //! function for every invocation, so nothing on the host re-derives the mapping.
 //!
-//! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` = [invocations,
-//! groups in x, pass-specific...]; invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
+//! Every entry point but [`sssr_scan`] is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` is its
+//! [`PassArgs`] record (a uniform buffer, as `consts`); invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
 //! `consts` holds the [`SsrParams`] record (`shader_core::ssr::params`) as it is, in a uniform
 //! buffer (its layout is std140's: 4-byte scalars, then 16-byte-aligned matrices of 16-byte rows),
 //! read into the invocation once by [`params`].
 
-use crate::invocation;
 use shader_core::ssr::params::{mip_size, SsrParams};
 use shader_core::ssr::hits;
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
@@ -21,6 +20,32 @@ use shader_core::vector::Vec3;
 use spirv_std::glam::UVec3;
 use spirv_std::arch::workgroup_memory_barrier_with_group_sync;
 use spirv_std::spirv;
+
+/// An SSR dispatch's own arguments (`#[repr(C)]`, four `u32`: std140), bound as a uniform buffer
+/// at binding 0: its invocation count, its groups in x, and the pass's one argument (the pyramid
+/// level, the resolve shape; unused elsewhere). The list passes dispatched indirectly bind the
+/// scan's dispatch record (`stochastic::dispatch_record`), whose first words are the same.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
+pub struct PassArgs {
+    /// Invocations of the dispatch (those at or past it return at once).
+    pub invocations: u32,
+    /// Workgroups in x of the 2D dispatch ([`crate::invocation_index`]).
+    pub groups_x: u32,
+    /// The pass's argument: mip level (pyramids), neighbourhood shape (HDRP resolve).
+    pub arg: u32,
+    /// Unused.
+    pub pad: u32,
+}
+
+/// The invocation index of an SSR dispatch with its arguments (`args[id.z]`, indexed by z for
+/// the reason [`params`] gives), or `None` past the end of the work.
+#[inline]
+fn pass(id: UVec3, args: &[PassArgs; 1]) -> Option<(u32, PassArgs)> {
+    let a = args[id.z as usize];
+    crate::invocation_index(id, a.invocations, a.groups_x).map(|i| (i, a))
+}
 
 /// The dispatch's parameter record: `consts[id.z]` (every SSR dispatch is one layer deep, so
 /// z = 0 and `consts` holds one record). Why a uniform buffer, and why indexed by z, on llvmpipe
@@ -192,32 +217,32 @@ pub fn specular_term(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32
 }
 
 /// Max-device-depth pyramid: converts mip 0 (and the far-depth layer) to device depth for
-/// `args[2]` = 0, writes mip `args[2]` from the mip below it otherwise.
+/// level (`args`' `arg`) 0, writes mip `arg` from the mip below it otherwise.
 #[spirv(compute(threads(64)))]
 pub fn ssr_hiz_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, a)) = pass(id, args) else { return };
     let p = params(id, consts);
-    let level = args[2];
+    let level = a.arg;
     let (j, v) = hiz_downsample(&p, pyr, level, i);
     pyr[j as usize] = v;
 }
 
-/// Colour pyramid: writes mip `args[2]` (>= 1) of `pyr` (RGB) from the mip below it.
+/// Colour pyramid: writes mip `a.arg` (>= 1) of `pyr` (RGB) from the mip below it.
 #[spirv(compute(threads(64)))]
 pub fn ssr_color_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, a)) = pass(id, args) else { return };
     let p = params(id, consts);
-    let level = args[2];
+    let level = a.arg;
     let c = color_downsample(&p, pyr, level, i);
     let b = ((trace::p_mip_offset(&p, level) + i) as usize) * COLOR_STRIDE;
     pyr[b] = c.x;
@@ -230,13 +255,13 @@ pub fn ssr_color_downsample(
 #[spirv(compute(threads(64)))]
 pub fn ssr_hdrp_emit(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] offsets: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     hdrp_emit(&p, gbuf, offsets, i, pixels);
 }
@@ -247,14 +272,14 @@ pub fn ssr_hdrp_emit(
 #[spirv(compute(threads(64)))]
 pub fn ssr_hdrp_trace(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     hdrp_trace(&p, gbuf, depth_pyr, pixels, k, rays, true);
 }
@@ -264,13 +289,13 @@ pub fn ssr_hdrp_trace(
 #[spirv(compute(threads(64)))]
 pub fn ssr_ray_hits(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     hits::hit_record_slot(&p, gbuf, rays, i, hits, (i as usize) * HIT_STRIDE);
 }
@@ -280,14 +305,14 @@ pub fn ssr_ray_hits(
 #[spirv(compute(threads(64)))]
 pub fn ssr_hdrp_hits(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     hdrp_hits(&p, gbuf, rays, pixels, k, hits, true);
 }
@@ -298,7 +323,7 @@ pub fn ssr_hdrp_hits(
 #[allow(clippy::too_many_arguments)]
 pub fn ssr_hdrp_reproject(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
@@ -306,12 +331,12 @@ pub fn ssr_hdrp_reproject(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, out, true);
 }
 
-/// HDRP's neighbourhood resolve (`args[2]` = shape: `resolve::NEIGHBORHOOD_3X3` or
+/// HDRP's neighbourhood resolve (`a.arg` = shape: `resolve::NEIGHBORHOOD_3X3` or
 /// `NEIGHBORHOOD_CROSS5`) over the valid-pixel list, from the hit records of [`ssr_hdrp_hits`]
 /// (`out` zero-initialized). Its own entry point, apart from `SSR_APPROX`'s: on a device that
 /// predicates branches (llvmpipe) one kernel holding both would run both.
@@ -319,7 +344,7 @@ pub fn ssr_hdrp_reproject(
 #[allow(clippy::too_many_arguments)]
 pub fn ssr_hdrp_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
@@ -328,9 +353,9 @@ pub fn ssr_hdrp_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, a)) = pass(id, args) else { return };
     let p = params(id, consts);
-    hdrp_resolve(&p, gbuf, color_pyr, rays, hits, args[2], pixels, k, out, true);
+    hdrp_resolve(&p, gbuf, color_pyr, rays, hits, a.arg, pixels, k, out, true);
 }
 
 /// Tile classification (both pipelines): one invocation per 8x8 tile writes (class, rays,
@@ -338,12 +363,12 @@ pub fn ssr_hdrp_resolve(
 #[spirv(compute(threads(64)))]
 pub fn sssr_classify(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] tiles: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     classify(&p, gbuf, i, tiles, (i as usize) * stochastic::TILE_STRIDE);
 }
@@ -354,7 +379,7 @@ pub fn sssr_classify(
 #[allow(clippy::too_many_arguments)]
 pub fn sssr_emit(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] ray_offsets: &[f32],
@@ -362,7 +387,7 @@ pub fn sssr_emit(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] list: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     emit(&p, gbuf, ray_offsets, pixel_offsets, i, list, pixels);
 }
@@ -372,14 +397,14 @@ pub fn sssr_emit(
 #[spirv(compute(threads(64)))]
 pub fn sssr_trace(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     sssr_trace_entry(&p, gbuf, depth_pyr, list, k, rays, true);
 }
@@ -390,14 +415,14 @@ pub fn sssr_trace(
 #[spirv(compute(threads(64)))]
 pub fn sssr_hits(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     sssr_hits_entry(&p, gbuf, rays, list, k, hits, true);
 }
@@ -409,7 +434,7 @@ pub fn sssr_hits(
 #[allow(clippy::too_many_arguments)]
 pub fn sssr_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
@@ -418,7 +443,7 @@ pub fn sssr_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, out, true);
 }
@@ -428,7 +453,7 @@ pub fn sssr_resolve(
 #[spirv(compute(threads(64)))]
 pub fn sssr_temporal(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] prev_gbuf: &[f32],
@@ -437,7 +462,7 @@ pub fn sssr_temporal(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] history: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     temporal(&p, gbuf, prev_gbuf, hit_distance, current, history, i, out, (i as usize) * stochastic::HISTORY_STRIDE);
 }
@@ -449,7 +474,7 @@ pub fn sssr_temporal(
 #[allow(clippy::too_many_arguments)]
 pub fn sssr_hit_distance(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
@@ -457,7 +482,7 @@ pub fn sssr_hit_distance(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
-    let Some(k) = invocation(id, args) else { return };
+    let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, out, true);
 }
@@ -468,7 +493,7 @@ pub fn sssr_hit_distance(
 #[spirv(compute(threads(64)))]
 pub fn ssr_specular(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] args: &[u32],
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] base_color: &[f32],
@@ -476,7 +501,7 @@ pub fn ssr_specular(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] reflection: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
-    let Some(i) = invocation(id, args) else { return };
+    let Some((i, _)) = pass(id, args) else { return };
     let p = params(id, consts);
     specular_term(&p, gbuf, base_color, lut, reflection, i, out, (i as usize) * specular::SPECULAR_STRIDE);
 }
@@ -486,7 +511,7 @@ pub fn ssr_specular(
 /// memory, the running total carried between chunks), and the trace pass's dispatch record
 /// (`stochastic::dispatch_record`: ray count, then the indirect-dispatch groups) of the pass
 /// launched over that list. Integer sums: the same offsets as the CPU's sequential
-/// `prefix_sum_tiles`. `args[2]` = tile count.
+/// `prefix_sum_tiles`. `a.arg` = tile count.
 #[spirv(compute(threads(64)))]
 pub fn sssr_scan(
     #[spirv(local_invocation_index)] lane: u32,

@@ -327,12 +327,14 @@ fn bytes(v: &[f32]) -> &[u8] {
     bytemuck::cast_slice(v)
 }
 
-/// The argument record of a 1D pass over `count` invocations ([count, groups in x, `extra`...],
-/// what `shader_kernels::invocation` reads) and its 2D workgroup grid.
+/// The argument record of a 1D pass over `count` invocations ([count, groups in x, `extra`...,
+/// zero-padded to the four words of `shader_kernels::ssr::PassArgs`) and its 2D workgroup grid.
 pub(crate) fn pass_args(count: u32, extra: &[u32]) -> (Vec<u32>, (u32, u32)) {
     let (gx, gy) = groups_2d(count.div_ceil(shader_kernels::WORKGROUP_SIZE));
     let mut args = vec![count, gx];
     args.extend_from_slice(extra);
+    // At least the four words of the kernels' uniform `PassArgs` record.
+    args.resize(args.len().max(std::mem::size_of::<shader_kernels::ssr::PassArgs>() / 4), 0);
     (args, (gx, gy))
 }
 
