@@ -7,10 +7,13 @@
 //! invocation `i` sums K floats into `output[i]`, read from its own record of K (`input[i K + j]`,
 //! as the SSR passes read G-buffer, ray and hit records) or K times from addresses every
 //! invocation shares (`input[j]`, as the SSR passes read their parameter record while it was a
-//! storage buffer), as K `f32` loads or K / 4 `vec4<f32>` loads. Every GPU result is checked
+//! storage buffer), as K `f32` loads or K / 4 `vec4<f32>` loads, and the own-record reads also as
+//! `textureLoad`s of an R32Float texture (host/src/wgsl/storage_texture.wgsl: the way around the
+//! storage-buffer cost a kernel could take). Every GPU result is checked
 //! against the CPU's sums (exact: the inputs are multiples of 1/4), so a kernel that skipped its
 //! reads would fail the run rather than look fast. GPU times are the timestamp queries around the
-//! compute pass (uploads and readback excluded), CPU times the backend's thread pool over the same
+//! compute pass (uploads and readback excluded; the texture rows: the wall clock from submitting
+//! the dispatch alone to its completion), CPU times the backend's thread pool over the same
 //! reads; the fastest of `--repeats` runs after one warm-up, medians beside them.
 
 use crate::backend::{Backend, DeviceChoice};
@@ -42,22 +45,33 @@ pub struct StorageArgs {
 }
 
 /// One kernel: its entry point, floats it reads per invocation, load instructions per
-/// invocation, and whether every invocation reads the same addresses.
+/// invocation, whether every invocation reads the same addresses, and whether it reads them
+/// from a sampled texture instead of a storage buffer.
 struct Kernel {
     entry: &'static str,
     floats: usize,
     loads: usize,
     shared: bool,
+    texture: bool,
 }
 
-const KERNELS: [Kernel; 6] = [
-    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false },
-    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false },
-    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false },
-    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true },
-    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false },
-    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false },
+const KERNELS: [Kernel; 9] = [
+    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false, texture: false },
+    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false, texture: false },
+    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false, texture: false },
+    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true, texture: false },
+    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false, texture: false },
+    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false, texture: false },
+    Kernel { entry: "texel_own_1", floats: 1, loads: 1, shared: false, texture: true },
+    Kernel { entry: "texel_own_4", floats: 4, loads: 4, shared: false, texture: true },
+    Kernel { entry: "texel_own_16", floats: 16, loads: 16, shared: false, texture: true },
 ];
+
+/// The texture rows' WGSL (`textureLoad` of an R32Float texture).
+const WGSL_TEXTURE: &str = include_str!("wgsl/storage_texture.wgsl");
+
+/// Width in texels of the texture rows' input (rows of floats, as many as the input needs).
+const TEXTURE_WIDTH: u32 = 4096;
 
 /// One kernel's figures.
 #[derive(Clone, Debug, Serialize)]
@@ -66,6 +80,11 @@ pub struct StorageRow {
     pub floats_per_invocation: usize,
     pub load_instructions_per_invocation: usize,
     pub shared_addresses: bool,
+    /// Read from a sampled R32Float texture (`textureLoad`) rather than a storage buffer.
+    pub texture: bool,
+    /// How the GPU time was taken: "timestamp query" (the pass) or "wall clock" (the texture
+    /// rows: submission to completion of the dispatch alone, uploads and readback excluded).
+    pub gpu_timing: String,
     pub gpu_ns_per_invocation: f64,
     pub gpu_median_ns_per_invocation: f64,
     /// Storage load instructions per second (all lanes), from the fastest run.
@@ -108,7 +127,7 @@ pub fn run(a: &StorageArgs) -> Result<()> {
     eprintln!("{}", backend.describe());
     let info = RunInfo::start(Some(g.describe()));
     for prefix in ["f32", "vec4"] {
-        let names: Vec<&str> = KERNELS.iter().map(|k| k.entry).filter(|e| e.starts_with(prefix)).collect();
+        let names: Vec<&str> = KERNELS.iter().filter(|k| !k.texture).map(|k| k.entry).filter(|e| e.starts_with(prefix)).collect();
         g.add_wgsl(&format!("storage bench ({prefix})"), &wgsl_module(prefix), &names)?;
     }
     let n = a.invocations as usize;
@@ -122,8 +141,12 @@ pub fn run(a: &StorageArgs) -> Result<()> {
             cpu.push(cpu_sums(k, &input, &mut expected));
         }
         let mut gpu = Vec::new();
+        let texture = if k.texture { Some(TextureKernel::new(g, k.entry, &input, n)?) } else { None };
         for run in 0..=a.repeats {
-            let (sums, secs) = gpu_sums(g, k.entry, &input, n)?;
+            let (sums, secs) = match &texture {
+                Some(t) => t.run(g)?,
+                None => gpu_sums(g, k.entry, &input, n)?,
+            };
             if let Some(i) = (0..n).find(|&i| sums[i].to_bits() != expected[i].to_bits()) {
                 bail!("{}: invocation {i} wrote {} where its reads sum to {}", k.entry, sums[i], expected[i]);
             }
@@ -139,6 +162,8 @@ pub fn run(a: &StorageArgs) -> Result<()> {
             floats_per_invocation: k.floats,
             load_instructions_per_invocation: k.loads,
             shared_addresses: k.shared,
+            texture: k.texture,
+            gpu_timing: if k.texture { "wall clock" } else { "timestamp query" }.into(),
             gpu_ns_per_invocation: per(gb),
             gpu_median_ns_per_invocation: per(gm),
             gpu_load_instructions_per_s: (n * k.loads) as f64 / gb,
@@ -167,6 +192,138 @@ fn gpu_sums(g: &GpuContext, entry: &str, input: &[f32], n: usize) -> Result<(Vec
     Ok((bytemuck::cast_slice(&out[0]).to_vec(), t.seconds))
 }
 
+/// A texture row's pipeline and resources, created once (the input uploaded, the driver's
+/// compile done) so that [`TextureKernel::run`] times the dispatch alone.
+struct TextureKernel {
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    output: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    groups: (u32, u32),
+    n: usize,
+}
+
+impl TextureKernel {
+    fn new(g: &GpuContext, entry: &str, input: &[f32], n: usize) -> Result<TextureKernel> {
+        let device = &g.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let height = (input.len() as u32).div_ceil(TEXTURE_WIDTH);
+        let max = g.limits.max_texture_dimension_2d;
+        if height > max {
+            bail!("{entry}: {} floats need a texture {TEXTURE_WIDTH} x {height}, over the adapter's {max} texels; use fewer --invocations", input.len());
+        }
+        let size = wgpu::Extent3d { width: TEXTURE_WIDTH, height, depth_or_array_layers: 1 };
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(entry),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let mut texels = input.to_vec();
+        texels.resize((TEXTURE_WIDTH * height) as usize, 0.0);
+        g.queue.write_texture(
+            wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+            bytemuck::cast_slice(&texels),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(TEXTURE_WIDTH * 4), rows_per_image: Some(height) },
+            size,
+        );
+        let groups = groups_2d((n as u32).div_ceil(shader_kernels::WORKGROUP_SIZE));
+        let args = [n as u32, groups.0, TEXTURE_WIDTH, 0];
+        use wgpu::util::DeviceExt;
+        let args = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("texture bench args"), contents: bytemuck::cast_slice(&args), usage: wgpu::BufferUsages::STORAGE });
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("texture bench output"),
+            size: (n * 4) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("texture bench readback"),
+            size: (n * 4) as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let buffer = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(entry),
+            entries: &[
+                buffer(0, true),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                buffer(2, false),
+            ],
+        });
+        let view = texture.create_view(&Default::default());
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(entry),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: args.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view) },
+                wgpu::BindGroupEntry { binding: 2, resource: output.as_entire_binding() },
+            ],
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("storage bench (texture)"), source: wgpu::ShaderSource::Wgsl(WGSL_TEXTURE.into()) });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(entry), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("{entry}: {e}"))?;
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            bail!("{entry}: {err}");
+        }
+        Ok(TextureKernel { pipeline, bind_group, output, readback, groups, n })
+    }
+
+    /// One dispatch, timed from its submission to its completion, then the sums read back.
+    fn run(&self, g: &GpuContext) -> Result<(Vec<f32>, f64)> {
+        let mut encoder = g.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+        }
+        let t0 = Instant::now();
+        g.queue.submit([encoder.finish()]);
+        g.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("texture bench: {e}"))?;
+        let secs = t0.elapsed().as_secs_f64();
+        let mut encoder = g.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.output, 0, &self.readback, 0, (self.n * 4) as u64);
+        g.queue.submit([encoder.finish()]);
+        self.readback.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping the texture bench's readback"));
+        g.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("texture bench: {e}"))?;
+        let sums = {
+            let view = self.readback.get_mapped_range(..).map_err(|e| anyhow::anyhow!("texture bench: {e}"))?;
+            bytemuck::cast_slice::<u8, f32>(&view).to_vec()
+        };
+        self.readback.unmap();
+        Ok((sums, secs))
+    }
+}
+
 fn markdown(info: &RunInfo, a: &StorageArgs, rows: &[StorageRow]) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Storage-buffer reads: GPU backend against CPU\n");
@@ -174,6 +331,7 @@ fn markdown(info: &RunInfo, a: &StorageArgs, rows: &[StorageRow]) -> String {
     let _ = writeln!(s, "CPU: {} ({} threads); load average at start {:?}  ", info.cpu, info.cpu_threads, info.load_average_start.unwrap_or_default());
     let _ = writeln!(s, "Adapter: {}  ", info.adapter.as_deref().unwrap_or("-"));
     let _ = writeln!(s, "{} invocations per dispatch, fastest of {} runs after a warm-up (median in brackets); every GPU sum checked against the CPU's.\n", a.invocations, a.repeats);
+    let _ = writeln!(s, "Storage rows are timed by timestamp queries around the pass, texture rows (`textureLoad` of an R32Float texture {TEXTURE_WIDTH} texels wide) by the wall clock from submitting the dispatch alone to its completion.\n");
     let _ = writeln!(s, "| kernel | floats read per invocation | load instructions | addresses | GPU ns / invocation | GPU load instructions / s | CPU ns / invocation | GPU time / CPU time |");
     let _ = writeln!(s, "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
     for r in rows {
@@ -183,7 +341,11 @@ fn markdown(info: &RunInfo, a: &StorageArgs, rows: &[StorageRow]) -> String {
             r.kernel,
             r.floats_per_invocation,
             r.load_instructions_per_invocation,
-            if r.shared_addresses { "shared by all" } else { "own record" },
+            match (r.texture, r.shared_addresses) {
+                (true, _) => "own record, texture",
+                (false, true) => "shared by all",
+                (false, false) => "own record",
+            },
             r.gpu_ns_per_invocation,
             r.gpu_median_ns_per_invocation,
             r.gpu_load_instructions_per_s / 1e6,
@@ -205,8 +367,12 @@ mod tests {
         assert!(f.contains("array<f32>") && f.contains("fn f32_own_16") && f.contains("fn f32_shared_16") && !f.contains("ELEM"));
         let v = wgsl_module("vec4");
         assert!(v.contains("array<vec4<f32>>") && v.contains("fn vec4_own_4") && v.contains("v.x + v.y + v.z + v.w"));
-        // Every kernel's entry point is in the module of its prefix.
-        for k in &KERNELS {
+        // Every storage kernel's entry point is in the module of its prefix, every texture
+        // kernel's in the texture module.
+        for k in KERNELS.iter().filter(|k| k.texture) {
+            assert!(WGSL_TEXTURE.contains(&format!("fn {}(", k.entry)), "{}", k.entry);
+        }
+        for k in KERNELS.iter().filter(|k| !k.texture) {
             let prefix = k.entry.split('_').next().unwrap();
             assert!(wgsl_module(prefix).contains(&format!("fn {}(", k.entry)), "{}", k.entry);
         }
