@@ -65,8 +65,9 @@ pub enum BenchWhat {
     /// out/kernel-rates.md and .json.
     Kernels(crate::bench_kernels::KernelsArgs),
     /// What reading a storage buffer costs the GPU backend's adapter against the CPU reading
-    /// the same values (hand-written WGSL kernels, no shading math): the floor under the kernels
-    /// that do little arithmetic per value read. Writes out/storage-bench.md and .json.
+    /// the same values, and the same reads as texture fetches (hand-written WGSL kernels, no
+    /// shading math): the floor under the kernels that do little arithmetic per value read.
+    /// Needs a Vulkan adapter. Writes out/storage-bench.md and .json.
     Storage(crate::bench_storage::StorageArgs),
     /// Rays per second of the path tracer (CPU backend on all threads and one, GPU backend, with
     /// bit-identical images checked), cost against scene size (1k / 30k / 300k triangles), time
