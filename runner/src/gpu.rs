@@ -355,9 +355,10 @@ impl GpuContext {
     }
 
     /// Run entry point `entry` once over `groups` workgroups with bindings 0.. = `inputs`
-    /// (read-only: storage, or uniform where the entry point declares one) followed by `outputs.len()` read-write storage buffers of the given
-    /// byte sizes (zero-initialized, or copied from `init` where given), and read the outputs
-    /// back: a one-pass [`GpuContext::dispatch_chain`].
+    /// (read-only: storage, or uniform where the entry point declares one) followed by
+    /// `outputs.len()` read-write storage buffers of the given byte sizes (zero-initialized, or
+    /// copied from `init` where given), and read the outputs back: a one-pass
+    /// [`GpuContext::dispatch_chain`].
     pub fn dispatch(
         &self,
         entry: &str,
@@ -378,11 +379,12 @@ impl GpuContext {
     }
 
     /// Run several passes in one command buffer, buffers staying on the device between them (no
-    /// host round trip): each pass binds `reads` (read-only: storage or, where the entry point declares one, uniform; bindings 0..) then `writes`
-    /// (read-write) from `buffers`, and is dispatched directly or indirectly from a buffer the
-    /// earlier passes wrote. Returns the contents of the buffers marked `read_back` (None for the
-    /// others) and each pass's time (timestamp queries where the adapter has them, else the whole
-    /// chain's wall clock on every pass).
+    /// host round trip): each pass binds `reads` (read-only: storage or, where the entry point
+    /// declares one, uniform; bindings 0..) then `writes` (read-write) from `buffers`, and is
+    /// dispatched directly or indirectly from a buffer the earlier passes wrote. Returns the
+    /// contents of the buffers marked `read_back` (None for the others) and each pass's time
+    /// (timestamp queries where the adapter has them, else the whole chain's wall clock on every
+    /// pass).
     pub fn dispatch_chain(&self, buffers: &[ChainBuffer<'_>], passes: &[ChainPass<'_>]) -> Result<(Vec<Option<Vec<u8>>>, Vec<Timing>), GpuError> {
         let names = passes.iter().map(|p| p.entry).collect::<Vec<_>>().join(" + ");
         // Pipelines first (an unknown entry point is an error before any GPU work is recorded).

@@ -5,7 +5,8 @@
 //! function for every invocation, so nothing on the host re-derives the mapping.
 //!
 //! Every entry point but [`sssr_scan`] is 1D with [`crate::WORKGROUP_SIZE`] threads; `args` is its
-//! [`PassArgs`] record (a uniform buffer, as `consts`); invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
+//! [`PassArgs`] record (a uniform buffer, as `consts`); invocation
+//! `i = id.x + id.y * groups_x * WORKGROUP_SIZE`;
 //! `consts` holds the [`SsrParams`] record (`shader_core::ssr::params`) as it is, in a uniform
 //! buffer (its layout is std140's: 4-byte scalars, then 16-byte-aligned matrices of 16-byte rows),
 //! read into the invocation once by [`params`].
@@ -232,7 +233,7 @@ pub fn ssr_hiz_downsample(
     pyr[j as usize] = v;
 }
 
-/// Colour pyramid: writes mip `a.arg` (>= 1) of `pyr` (RGB) from the mip below it.
+/// Colour pyramid: writes mip `arg` (>= 1) of `pyr` (RGB) from the mip below it.
 #[spirv(compute(threads(64)))]
 pub fn ssr_color_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -336,7 +337,7 @@ pub fn ssr_hdrp_reproject(
     hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, out, true);
 }
 
-/// HDRP's neighbourhood resolve (`a.arg` = shape: `resolve::NEIGHBORHOOD_3X3` or
+/// HDRP's neighbourhood resolve (`arg` = shape: `resolve::NEIGHBORHOOD_3X3` or
 /// `NEIGHBORHOOD_CROSS5`) over the valid-pixel list, from the hit records of [`ssr_hdrp_hits`]
 /// (`out` zero-initialized). Its own entry point, apart from `SSR_APPROX`'s: on a device that
 /// predicates branches (llvmpipe) one kernel holding both would run both.
@@ -511,7 +512,7 @@ pub fn ssr_specular(
 /// memory, the running total carried between chunks), and the trace pass's dispatch record
 /// (`stochastic::dispatch_record`: ray count, then the indirect-dispatch groups) of the pass
 /// launched over that list. Integer sums: the same offsets as the CPU's sequential
-/// `prefix_sum_tiles`. `a.arg` = tile count.
+/// `prefix_sum_tiles`. `args[2]` = tile count.
 #[spirv(compute(threads(64)))]
 pub fn sssr_scan(
     #[spirv(local_invocation_index)] lane: u32,
