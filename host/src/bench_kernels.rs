@@ -313,7 +313,7 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     }
     pb.finish_and_clear();
     let report = KernelReport {
-        command: std::env::args().collect::<Vec<_>>().join(" "),
+        command: crate::report::command_line(),
         cpu: cpu_model(),
         cpu_threads: crate::cpu::threads(),
         load_average_start: load_start,

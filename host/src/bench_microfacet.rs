@@ -462,7 +462,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
     eprintln!("wrote {}", a.output.display());
     let json = a.output.with_extension("json");
     let doc = serde_json::json!({
-        "command": std::env::args().collect::<Vec<_>>().join(" "),
+        "command": crate::report::command_line(),
         "cpu": cpu_model(),
         "cpu_backend": cpu.describe(),
         "gpu_backend": gpu.as_ref().map(|g| g.describe()),

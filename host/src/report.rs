@@ -38,11 +38,26 @@ fn cpu_model() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
+/// The variables that change which adapter, driver or kernel build a run uses; [`command_line`]
+/// shows the ones that are set, so a report's command reruns the same configuration.
+pub const ADAPTER_ENV: [&str; 6] = ["VK_ICD_FILENAMES", "VK_DRIVER_FILES", "HOST_ADAPTER", "HOST_DIV_SQRT", "HOST_NO_SUBGROUPS", "HOST_NO_PASSTHROUGH"];
+
+/// The [`ADAPTER_ENV`] variables that are set, as `K=V ` words (empty when none is).
+pub fn adapter_env() -> String {
+    ADAPTER_ENV.iter().filter_map(|k| std::env::var(k).ok().filter(|v| !v.is_empty()).map(|v| format!("{k}={v} "))).collect()
+}
+
+/// This process's command line after [`adapter_env`]
+/// (`HOST_ADAPTER=25.0.7-2~bpo12+1 host bench storage ...`).
+pub fn command_line() -> String {
+    format!("{}{}", adapter_env(), std::env::args().collect::<Vec<_>>().join(" "))
+}
+
 impl RunInfo {
-    /// Start recording: the command line, the machine and the current load average.
+    /// Start recording: the command line ([`command_line`]), the machine and the current load average.
     pub fn start(adapter: Option<String>) -> RunInfo {
         RunInfo {
-            command: std::env::args().collect::<Vec<_>>().join(" "),
+            command: command_line(),
             cpu: cpu_model(),
             cpu_threads: crate::cpu::threads(),
             adapter,

@@ -262,6 +262,13 @@ fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
         let o = host(&["info"], &[("HOST_ADAPTER", "llvmpipe")]);
         assert!(text(&o).contains("because HOST_ADAPTER=\"llvmpipe\" names an adapter"), "{}", text(&o));
         assert!(text(&o).contains("selects: GPU backend: llvmpipe"), "{}", text(&o));
+        // The driver description counts too (two lavapipes differ only there), and a name that
+        // matches nothing is an error listing what there is.
+        let o = host(&["info", "--device", "gpu"], &[("HOST_ADAPTER", "mesa")]);
+        assert!(text(&o).contains("selects: GPU backend: llvmpipe"), "{}", text(&o));
+        let o = host(&["info", "--device", "gpu"], &[("HOST_ADAPTER", "no such adapter")]);
+        assert!(!o.status.success(), "{}", text(&o));
+        assert!(text(&o).contains("no Vulkan adapter matches HOST_ADAPTER=\"no such adapter\"; available: llvmpipe"), "{}", text(&o));
     }
 }
 

@@ -69,9 +69,16 @@ fn adapter_rank(t: wgpu::DeviceType) -> u32 {
     }
 }
 
+/// What `HOST_ADAPTER` is matched against (a substring, case-insensitive): the adapter's name,
+/// then its driver and driver description, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) llvmpipe Mesa
+/// 22.3.6 (LLVM 15.0.6)`, so two lavapipes of different Mesa releases can be told apart.
+pub fn adapter_label(info: &wgpu::AdapterInfo) -> String {
+    format!("{} {} {}", info.name, info.driver, info.driver_info)
+}
+
 impl GpuContext {
     /// Pick a Vulkan adapter (discrete > integrated > virtual > CPU; `HOST_ADAPTER=substring`
-    /// selects by name), create a device and load the SPIR-V.
+    /// selects by name or driver, see [`adapter_label`]), create a device and load the SPIR-V.
     pub fn new(shader: &ShaderModule) -> Result<Self, GpuError> {
         ensure_xdg_runtime_dir();
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
@@ -82,8 +89,8 @@ impl GpuContext {
             return Err(GpuError::NoAdapter);
         }
         if let Ok(want) = std::env::var("HOST_ADAPTER") {
-            let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
-            adapters.retain(|a| a.get_info().name.to_lowercase().contains(&want.to_lowercase()));
+            let names: Vec<String> = adapters.iter().map(|a| adapter_label(&a.get_info())).collect();
+            adapters.retain(|a| adapter_label(&a.get_info()).to_lowercase().contains(&want.to_lowercase()));
             if adapters.is_empty() {
                 return Err(GpuError::NoMatchingAdapter(want, names.join(", ")));
             }

@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+mod lavapipe;
+
 /// The nightly that `spirv-builder 0.11.0` requires (its `rust-toolchain.toml`).
 const TOOLCHAIN: &str = "nightly-2026-08-15";
 const SPIRV_BUILDER: &str = "0.11.0";
@@ -52,17 +54,29 @@ enum Cmd {
         #[arg(trailing_var_arg = true)]
         rest: Vec<String>,
     },
+    /// Download Mesa 25.0.7's lavapipe (Debian 12 backports, pinned by SHA-256) into
+    /// target/lavapipe/ once, and print the environment that makes a program load it instead of
+    /// the system's lavapipe (Mesa 22.3.6 on Debian 12), e.g.
+    /// `env $(cargo xtask lavapipe) ./target/release/host bench storage`.
+    ///
+    /// Same LLVM 15, same bits (the test command checks both); the newer llvmpipe reads storage
+    /// buffers 2-20x faster (docs/storage-bench-mesa25.md). The system's Mesa is not touched.
+    Lavapipe,
     /// Regenerate every measured report under docs/ from fresh runs of the host's benchmarks.
     ///
     /// Builds the host (release) and runs, with explicit docs/ output paths: bench microfacet
-    /// (docs/microfacet-cost.md, .png), bench vndf (docs/vndf-bench.md, .png), energy bench
-    /// (docs/energy-bench.md, .png, .json), energy furnace (docs/energy-furnace.png) and ssr
+    /// (docs/microfacet-cost.md, .png), bench vndf (docs/vndf-bench.md, .png), bench kernels
+    /// (docs/kernel-rates.md), bench storage (docs/storage-bench.md), the last two again on Mesa
+    /// 25.0.7's lavapipe (docs/*-mesa25.md; `cargo xtask lavapipe`), energy bench
+    /// (docs/energy-bench.md, .png, .json), bench render (docs/render-bench.md), energy furnace
+    /// (docs/energy-furnace.png) and ssr
     /// bench (docs/ssr_error_vs_time.png; its Markdown replaces the "Measured comparison" section
     /// of docs/ssr.md up to "### What the numbers say"). Other outputs go to out/docs-reports/.
     /// Takes tens of minutes on 2 cores; review the diff before committing (the prose around
     /// the tables quotes figures that may need updating).
     DocsReports {
-        /// Only these reports (comma separated): microfacet, vndf, energy, furnace, ssr.
+        /// Only these reports (comma separated): microfacet, vndf, kernels, storage, storage-mesa25,
+        /// kernels-mesa25, energy, render, furnace, ssr.
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
     },
@@ -92,6 +106,12 @@ fn main() -> Result<()> {
             install_lavapipe,
             rest,
         } => test(install_lavapipe, &rest),
+        Cmd::Lavapipe => {
+            let icd = lavapipe::ensure(&workspace_root())?;
+            let vars: Vec<String> = lavapipe::env(&icd).iter().map(|(k, v)| format!("{k}={v}")).collect();
+            println!("{}", vars.join(" "));
+            Ok(())
+        }
         Cmd::DocsReports { only } => docs_reports(&only),
         Cmd::GpuBundle { tests } => gpu_bundle(&tests),
     }
@@ -208,7 +228,8 @@ fn dir_size(dir: &Path) -> Result<u64> {
 }
 
 /// The reports of `cargo xtask docs-reports`: (name, host arguments). Outputs that are not
-/// docs/ files go to out/docs-reports/.
+/// docs/ files go to out/docs-reports/. A name ending in `-mesa25` runs on Mesa 25.0.7's
+/// lavapipe ([`lavapipe`]), the rest on the machine's own Vulkan driver.
 const REPORTS: &[(&str, &[&str])] = &[
     (
         "microfacet",
@@ -223,6 +244,8 @@ const REPORTS: &[(&str, &[&str])] = &[
     ),
     ("kernels", &["bench", "kernels", "--device", "gpu", "--rows", "1048576", "--repeats", "5", "--output", "docs/kernel-rates.md"]),
     ("storage", &["bench", "storage", "--repeats", "5", "--output", "docs/storage-bench.md"]),
+    ("storage-mesa25", &["bench", "storage", "--repeats", "5", "--output", "docs/storage-bench-mesa25.md"]),
+    ("kernels-mesa25", &["bench", "kernels", "--device", "gpu", "--rows", "1048576", "--repeats", "5", "--output", "docs/kernel-rates-mesa25.md"]),
     ("energy", &["energy", "bench", "--device", "auto", "--report", "docs/energy-bench.md"]),
     ("render", &["bench", "render", "--device", "auto", "--report", "docs/render-bench.md"]),
     ("furnace", &["energy", "furnace", "--device", "auto", "--spheres", "11", "--size", "64", "--samples", "256", "-o", "out/docs-reports/energy-furnace.exr"]),
@@ -259,7 +282,14 @@ fn docs_reports(only: &[String]) -> Result<()> {
     for (name, args) in REPORTS.iter().filter(|(n, _)| only.is_empty() || only.iter().any(|o| o == n)) {
         eprintln!("[docs-reports] {name}: host {}", args.join(" "));
         let t0 = Instant::now();
-        let status = Command::new(&host).current_dir(&root).args(*args).status().with_context(|| format!("running {}", host.display()))?;
+        let mut cmd = Command::new(&host);
+        cmd.current_dir(&root).args(*args);
+        if name.ends_with("-mesa25") {
+            for (k, v) in lavapipe::env(&lavapipe::ensure(&root)?) {
+                cmd.env(k, v);
+            }
+        }
+        let status = cmd.status().with_context(|| format!("running {}", host.display()))?;
         if !status.success() {
             bail!("[docs-reports] {name} failed: host {}", args.join(" "));
         }
@@ -527,8 +557,39 @@ fn test(install_lavapipe: bool, rest: &[String]) -> Result<()> {
         eprintln!("[test] HOST_DIV_SQRT=exact cargo test --release -p crosscheck --no-fail-fast {} (the CPU-vs-GPU comparisons with the software division and square root)", rest.join(" "));
         exact_ok = again.status().context("running cargo test")?.success();
     }
-    if !status.success() || !exact_ok {
-        bail!("tests failed{}", if exact_ok { "" } else { " (with HOST_DIV_SQRT=exact)" });
+    // The comparisons once more on the second lavapipe (Mesa 25.0.7, `lavapipe`), whose
+    // llvmpipe compiles the same SPIR-V with other code paths: CI (and whoever may install it)
+    // fetches it; a machine that cannot load it says why. HOST_ADAPTER names its driver, so the
+    // run fails rather than quietly comparing on the system's lavapipe.
+    let mut mesa25_ok = true;
+    let wants_mesa25 = install_lavapipe || is_root() || std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    match lavapipe::unsupported_reason() {
+        Some(why) => eprintln!("[test] the comparisons on Mesa {} lavapipe do not run: {why}", lavapipe::MESA_VERSION),
+        None if !wants_mesa25 => eprintln!(
+            "[test] the comparisons on Mesa {} lavapipe do not run: pass --install-lavapipe (or run as root) to fetch it",
+            lavapipe::MESA_VERSION
+        ),
+        None => {
+            let icd = lavapipe::ensure(&root)?;
+            let mut again = cargo_test(&["--release", "-p", "crosscheck", "--no-fail-fast"])?;
+            let mut shown = Vec::new();
+            for (k, v) in lavapipe::env(&icd) {
+                shown.push(format!("{k}={v}"));
+                again.env(k, v);
+            }
+            eprintln!("[test] {} cargo test --release -p crosscheck --no-fail-fast {} (the CPU-vs-GPU comparisons on Mesa {} lavapipe)", shown.join(" "), rest.join(" "), lavapipe::MESA_VERSION);
+            mesa25_ok = again.status().context("running cargo test")?.success();
+        }
+    }
+    if !status.success() || !exact_ok || !mesa25_ok {
+        let mut which = Vec::new();
+        if !exact_ok {
+            which.push("with HOST_DIV_SQRT=exact".to_string());
+        }
+        if !mesa25_ok {
+            which.push(format!("on Mesa {} lavapipe", lavapipe::MESA_VERSION));
+        }
+        bail!("tests failed{}", if which.is_empty() { String::new() } else { format!(" ({})", which.join("; ")) });
     }
     Ok(())
 }

@@ -583,8 +583,9 @@ fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) ->
     let _ = writeln!(s, "## Measured comparison (`host ssr bench`)\n");
     let _ = writeln!(
         s,
-        "Command: `cargo run --release -p host -- ssr bench --scenes {} --width {} --height {} --reference-samples {} --colour-spp {} --history-colour-spp {} --frame {}{} --report {} --plot {}` \
+        "Command: `{}cargo run --release -p host -- ssr bench --scenes {} --width {} --height {} --reference-samples {} --colour-spp {} --history-colour-spp {} --frame {}{} --report {} --plot {}` \
          ({}x{} pixels; reference: {} rays per glossy pixel).\n",
+        crate::report::adapter_env(),
         a.scenes,
         a.width,
         a.height,
