@@ -298,12 +298,24 @@ pub fn cell_taps(x: f32, n: u32, low: bool, high: bool) -> (u32, u32, u32, f32, 
     (i0, i1, i1, 1.0 - f, f, 0.0)
 }
 
-/// Lookup in the table at word `offset` of `lut`, n_x columns (mu) by n_y rows (roughness), with
+/// The interpolation taps of (x, y) on a table of n_x columns (mu) by n_y rows (roughness):
 /// [`cell_taps`] on both axes (mu: extrapolated at the high end; roughness: at both ends).
+#[derive(Clone, Copy)]
+struct Taps {
+    i: (u32, u32, u32, f32, f32, f32),
+    j: (u32, u32, u32, f32, f32, f32),
+}
+
 #[inline]
-fn bilinear(lut: &[f32], offset: usize, n_x: u32, n_y: u32, x: f32, y: f32) -> f32 {
-    let (i0, i1, i2, u0, u1, u2) = cell_taps(x, n_x, false, true);
-    let (j0, j1, j2, w0, w1, w2) = cell_taps(y, n_y, true, true);
+fn taps(n_x: u32, n_y: u32, x: f32, y: f32) -> Taps {
+    Taps { i: cell_taps(x, n_x, false, true), j: cell_taps(y, n_y, true, true) }
+}
+
+/// Lookup with taps `t` in the table at word `offset` of `lut` (n_x columns).
+#[inline]
+fn lookup(lut: &[f32], offset: usize, n_x: u32, t: &Taps) -> f32 {
+    let (i0, i1, i2, u0, u1, u2) = t.i;
+    let (j0, j1, j2, w0, w1, w2) = t.j;
     let r0 = lut_row(lut, offset + (j0 * n_x) as usize, i0, i1, i2, u0, u1, u2);
     let r1 = lut_row(lut, offset + (j1 * n_x) as usize, i0, i1, i2, u0, u1, u2);
     let r2 = lut_row(lut, offset + (j2 * n_x) as usize, i0, i1, i2, u0, u1, u2);
@@ -331,7 +343,7 @@ pub fn lut_e(lut: &[f32], mu: f32, r: f32) -> f32 {
         return f32::NAN;
     }
     let (n_mu, n_r, _) = lut_dims(lut);
-    bilinear(lut, LUT_HEADER, n_mu, n_r, mu, r)
+    lookup(lut, LUT_HEADER, n_mu, &taps(n_mu, n_r, mu, r))
 }
 
 /// E'(mu, r) from the LUT buffer (linear in mu, [`cell_taps`] in r); NaN for NaN input.
@@ -341,7 +353,19 @@ pub fn lut_e_prime(lut: &[f32], mu: f32, r: f32) -> f32 {
         return f32::NAN;
     }
     let (n_mu, n_r, _) = lut_dims(lut);
-    bilinear(lut, LUT_HEADER + (n_mu * n_r) as usize, n_mu, n_r, mu, r)
+    lookup(lut, LUT_HEADER + (n_mu * n_r) as usize, n_mu, &taps(n_mu, n_r, mu, r))
+}
+
+/// (E, E')(mu, r) from the LUT buffer: [`lut_e`] and [`lut_e_prime`] with the taps computed once
+/// (the two tables share their grid), bit for bit the same values; NaNs for NaN input.
+#[inline]
+pub fn lut_e_and_e_prime(lut: &[f32], mu: f32, r: f32) -> (f32, f32) {
+    if mu.is_nan() || r.is_nan() {
+        return (f32::NAN, f32::NAN);
+    }
+    let (n_mu, n_r, _) = lut_dims(lut);
+    let t = taps(n_mu, n_r, mu, r);
+    (lookup(lut, LUT_HEADER, n_mu, &t), lookup(lut, LUT_HEADER + (n_mu * n_r) as usize, n_mu, &t))
 }
 
 /// E_avg(r) from the LUT buffer ([`cell_taps`]); NaN for NaN input.
@@ -447,8 +471,7 @@ pub fn compensation_terms(lut: &[f32], m: &FurnaceMaterial, mu: f32) -> Compensa
     if !need_e {
         return c;
     }
-    let e_o = lut_e(lut, mu, m.roughness);
-    let e_p = lut_e_prime(lut, mu, m.roughness);
+    let (e_o, e_p) = lut_e_and_e_prime(lut, mu, m.roughness);
     let e2_d = schlick_albedo(e_o, e_p, DIELECTRIC_F0, 1.0);
     let mut spec_d = e2_d;
     if ms && m.mode == COMP_TURQUIN {

@@ -11,13 +11,12 @@
 //! buffer (its layout is std140's: 4-byte scalars, then 16-byte-aligned matrices of 16-byte rows),
 //! read into the invocation once by [`params`].
 
-use shader_core::ssr::params::{mip_size, SsrParams};
+use shader_core::ssr::params::SsrParams;
 use shader_core::ssr::hits;
-use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
+use shader_core::ssr::resolve::{self, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular;
 use shader_core::ssr::stochastic;
 use shader_core::ssr::trace::{self, RAY_STRIDE};
-use shader_core::vector::Vec3;
 use spirv_std::glam::UVec3;
 use spirv_std::arch::workgroup_memory_barrier_with_group_sync;
 use spirv_std::spirv;
@@ -62,30 +61,6 @@ fn pass(id: UVec3, args: &[PassArgs; 1]) -> Option<(u32, PassArgs)> {
 #[inline]
 fn params(id: UVec3, consts: &[SsrParams; 1]) -> SsrParams {
     consts[id.z as usize]
-}
-
-/// Depth pyramid, invocation `i` of mip `level`: (its texel's index in `pyr`, value). Level 0
-/// converts the linear depth in place to device depth ([`trace::device_depth`]; invocations
-/// `0..w h` the depth layer, then, where the parameters have one, `w h..2 w h` the far-depth
-/// layer at [`SsrParams::far_depth_offset`]); level >= 1 (row-major texels) is the maximum of
-/// the 2x2 texels below ([`trace::hiz_downsample_texel`]).
-#[inline]
-pub fn hiz_downsample(p: &SsrParams, pyr: &[f32], level: u32, i: u32) -> (u32, f32) {
-    if level == 0 {
-        let n = p.width * p.height;
-        let j = if i < n { i } else { p.far_depth_offset + (i - n) };
-        (j, trace::device_depth(p, pyr[j as usize]))
-    } else {
-        let w = mip_size(p.width, level);
-        (trace::p_mip_offset(p, level) + i, trace::hiz_downsample_texel(p, pyr, level, i % w, i / w))
-    }
-}
-
-/// Colour pyramid, invocation `i` of mip `level` (>= 1): its texel's RGB.
-#[inline]
-pub fn color_downsample(p: &SsrParams, pyr: &[f32], level: u32, i: u32) -> Vec3 {
-    let w = mip_size(p.width, level);
-    resolve::color_downsample_texel(p, pyr, level, i % w, i / w)
 }
 
 /// Tile classification, invocation `i` (tile `i`, row-major 8x8 tiles): its record (class, rays,
@@ -217,8 +192,9 @@ pub fn specular_term(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32
     specular::specular_pixel(p, gbuf, base_color, lut, reflection, i % p.width, i / p.width, out, ob);
 }
 
-/// Max-device-depth pyramid: converts mip 0 (and the far-depth layer) to device depth for
-/// level (`args`' `arg`) 0, writes mip `arg` from the mip below it otherwise.
+/// Max-device-depth pyramid: mips `arg` and `arg + 1` (`arg` = 0, 2, 4, ...), invocation `i` =
+/// block `i` of [`trace::hiz_block`] (the pass with `arg` 0 also converts mip 0 and the far-depth
+/// layer from linear to device depth).
 #[spirv(compute(threads(64)))]
 pub fn ssr_hiz_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -228,12 +204,11 @@ pub fn ssr_hiz_downsample(
 ) {
     let Some((i, a)) = pass(id, args) else { return };
     let p = params(id, consts);
-    let level = a.arg;
-    let (j, v) = hiz_downsample(&p, pyr, level, i);
-    pyr[j as usize] = v;
+    trace::hiz_block(&p, pyr, a.arg, i).store(pyr);
 }
 
-/// Colour pyramid: writes mip `arg` (>= 1) of `pyr` (RGB) from the mip below it.
+/// Colour pyramid: mips `arg` and `arg + 1` (`arg` = 1, 3, 5, ...) of `pyr` (RGB), invocation `i`
+/// = block `i` of [`resolve::color_block`].
 #[spirv(compute(threads(64)))]
 pub fn ssr_color_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -243,12 +218,7 @@ pub fn ssr_color_downsample(
 ) {
     let Some((i, a)) = pass(id, args) else { return };
     let p = params(id, consts);
-    let level = a.arg;
-    let c = color_downsample(&p, pyr, level, i);
-    let b = ((trace::p_mip_offset(&p, level) + i) as usize) * COLOR_STRIDE;
-    pyr[b] = c.x;
-    pyr[b + 1] = c.y;
-    pyr[b + 2] = c.z;
+    resolve::color_block(&p, pyr, a.arg, i).store(pyr);
 }
 
 /// HDRP's pixel list: each tile writes its pixels with a valid surface into the list from its

@@ -215,6 +215,16 @@ fn bad_arguments_are_rejected() {
     let (n_mu, n_r, _) = ce::lut_dims(&lut);
     let (at, stored) = (ce::lut_e(&lut, ce::cell_center(5, n_mu), ce::cell_center(7, n_r)), tables().e[(7 * n_mu + 5) as usize]);
     assert!((at - stored).abs() <= 1e-6 * stored.abs(), "lookup at a cell centre {at}, stored {stored}");
+    // The paired lookup (taps computed once) is bit for bit the two single lookups, inside the
+    // domain, in the extrapolated half cells, outside it and for NaN.
+    let mut coords: Vec<f32> = (0..=200).map(|k| k as f32 / 200.0).collect();
+    coords.extend([-0.5, -1e-7, 1e-7, 0.5 / n_mu as f32, 0.5 / n_r as f32, 1.0 - 1e-7, 1.0 + 1e-7, 2.0, f32::NAN, f32::INFINITY]);
+    for &mu in &coords {
+        for &r in &coords {
+            let (e, ep) = ce::lut_e_and_e_prime(&lut, mu, r);
+            assert_eq!((e.to_bits(), ep.to_bits()), (ce::lut_e(&lut, mu, r).to_bits(), ce::lut_e_prime(&lut, mu, r).to_bits()), "mu {mu}, r {r}");
+        }
+    }
     // The binary form round-trips.
     let dir = std::env::temp_dir().join(format!("energy_lut_{}", std::process::id()));
     let path = dir.join("t.bin");

@@ -205,14 +205,15 @@ fn reference_mirror_matches_onscreen_where_rays_stay_on_screen() {
 /// The depth pyramid holds device depth (near / z) and each coarser cell the maximum of the cells
 /// below: bit for bit the device depth of an independently built pyramid of minimum linear depth
 /// (the form the tracers read before the conversion moved into the pyramid), far-depth layer
-/// included, on an odd-sized frame (edge texels of odd mips).
+/// included, on odd-sized frames (edge texels of odd mips).
 #[test]
 fn depth_pyramid_is_device_depth_of_the_min_linear_pyramid() {
     use host::ssr::pipeline::{build_params, pyramid_texels, Runner};
     use shader_core::ssr::params::mip_size;
     use shader_core::ssr::trace::{device_depth, p_mip_offset};
-    for name in ["floor", "hallway", "thin"] {
-        let g = scene(name).unwrap().render_gbuffer(67, 45, 0);
+    // 67x45 has 8 mips, 37x29 7: the last pass writes two mips or one.
+    for (name, w, h) in [("floor", 67, 45), ("hallway", 67, 45), ("thin", 37, 29)] {
+        let g = scene(name).unwrap().render_gbuffer(w, h, 0);
         let p = build_params(&g, &host::ssr::SsrSettings::default()).unwrap();
         assert!(p.far_depth_offset != 0 && p.mip_count > 4, "{name}: the test wants a far layer and several mips");
         let pyr = Runner::new(&host::Backend::Cpu).depth_pyramid(&p, &g.depth_layers()).unwrap();
@@ -249,4 +250,43 @@ fn depth_pyramid_is_device_depth_of_the_min_linear_pyramid() {
             assert!(e.contains("depth must be > 0") && e.contains("pixel (5, 0)"), "{name}: {e}");
         }
     }
+}
+
+/// The colour pyramid (two mips per pass, `resolve::color_block`) is, texel for texel, the box
+/// average of an independently built pyramid: mip by mip, each texel ((a + b) + (c + d)) * 0.25
+/// of the (up to) 2x2 texels below, edge texels repeated for odd sizes; on odd-sized frames with
+/// an even and an odd number of mips (so the last pass writes one mip or two).
+#[test]
+fn color_pyramid_is_the_box_pyramid_of_the_frame() {
+    use host::ssr::pipeline::{build_params, pyramid_texels, Runner};
+    use shader_core::ssr::params::mip_size;
+    use shader_core::ssr::trace::p_mip_offset;
+    let mut mip_counts = Vec::new();
+    for (name, w, h) in [("floor", 67, 45), ("thin", 37, 29), ("hallway", 5, 3)] {
+        let g = scene(name).unwrap().render_gbuffer(w, h, 0);
+        let p = build_params(&g, &host::ssr::SsrSettings::default()).unwrap();
+        mip_counts.push(p.mip_count);
+        let pyr = Runner::new(&host::Backend::Cpu).color_pyramid(&p, &g.color).unwrap();
+        let (w, h) = (p.width, p.height);
+        let mut want = vec![f32::NAN; pyramid_texels(w, h) * 3];
+        want[..g.color.len()].copy_from_slice(&g.color);
+        for l in 1..p.mip_count {
+            let (pw, ph, lw, lh) = (mip_size(w, l - 1), mip_size(h, l - 1), mip_size(w, l), mip_size(h, l));
+            let (src, dst) = (p_mip_offset(&p, l - 1) as usize, p_mip_offset(&p, l) as usize);
+            for y in 0..lh {
+                for x in 0..lw {
+                    let (x1, y1) = ((2 * x + 1).min(pw - 1), (2 * y + 1).min(ph - 1));
+                    for c in 0..3 {
+                        let t = |tx: u32, ty: u32| want[(src + (ty * pw + tx) as usize) * 3 + c];
+                        want[(dst + (y * lw + x) as usize) * 3 + c] = ((t(2 * x, 2 * y) + t(x1, 2 * y)) + (t(2 * x, y1) + t(x1, y1))) * 0.25;
+                    }
+                }
+            }
+        }
+        assert_eq!(pyr.len(), want.len(), "{name}");
+        for (i, (a, b)) in pyr.iter().zip(&want).enumerate() {
+            assert_eq!(a.to_bits(), b.to_bits(), "{name}: value {i} (texel {}): {a} vs {b}", i / 3);
+        }
+    }
+    assert!(mip_counts.iter().any(|m| m % 2 == 0) && mip_counts.iter().any(|m| m % 2 == 1), "mip counts {mip_counts:?}: want both parities");
 }

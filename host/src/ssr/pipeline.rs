@@ -188,17 +188,17 @@ pub fn depth_pyramid_init(p: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
 }
 
 /// The CPU launcher of a pass that updates `buf` in place: on all cores, `f(buf, i)` computes
-/// invocation `i`'s (index, value), written once its block of invocations is computed (as on
-/// the GPU, an invocation reads only values no other invocation of the pass writes).
-fn update_in_place(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -> (u32, f32) + Sync) {
+/// invocation `i`'s writes, which `store` applies once its block of invocations is computed (as
+/// on the GPU, an invocation reads only values no other invocation of the pass writes).
+fn update_in_place<W: Send>(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -> W + Sync, store: impl Fn(&W, &mut [f32])) {
     const BLOCK: usize = 1 << 18;
     let mut out = Vec::with_capacity(BLOCK.min(n));
     for start in (0..n).step_by(BLOCK) {
         let end = (start + BLOCK).min(n);
         let src = &*buf;
         (start..end).into_par_iter().map(|i| f(src, i as u32)).collect_into_vec(&mut out);
-        for &(j, v) in &out {
-            buf[j as usize] = v;
+        for w in &out {
+            store(w, buf);
         }
     }
 }
@@ -222,14 +222,25 @@ fn scatter<const S: usize>(entries: usize, slots: usize, f: impl Fn(u32, &mut [f
     out
 }
 
-/// The depth-pyramid passes as (level, invocations): level 0 converts the depth (and far-depth)
-/// layer to device depth, each further level is the maximum of 2x2 texels of the one below
-/// (`shader_kernels::ssr::hiz_downsample`).
+/// The depth-pyramid passes as (level, invocations): each writes mips `level` and `level + 1`
+/// (`level` = 0, 2, 4, ...) with one invocation per texel of mip `level + 1`
+/// (`shader_core::ssr::trace::hiz_block`); the first also converts the depth (and the far-depth
+/// layer, with as many invocations again) from linear to device depth.
 pub fn depth_pyramid_passes(p: &SsrParams) -> Vec<(u32, usize)> {
     let layers = if p.far_depth_offset != 0 { 2 } else { 1 };
-    let mut v = vec![(0, (p.width * p.height) as usize * layers)];
-    v.extend((1..p.mip_count).map(|l| (l, (mip_size(p.width, l) * mip_size(p.height, l)) as usize)));
-    v
+    pyramid_passes(p, 0).into_iter().map(|(l, n)| (l, if l == 0 { n * layers } else { n })).collect()
+}
+
+/// The colour-pyramid passes as (level, invocations): each writes mips `level` and `level + 1`
+/// (`level` = 1, 3, 5, ...; mip 0 is the frame) with one invocation per texel of mip `level + 1`
+/// (`shader_core::ssr::resolve::color_block`).
+pub fn color_pyramid_passes(p: &SsrParams) -> Vec<(u32, usize)> {
+    pyramid_passes(p, 1)
+}
+
+/// Passes writing mips `first..p.mip_count` two at a time: (lower mip, texels of the mip above it).
+fn pyramid_passes(p: &SsrParams, first: u32) -> Vec<(u32, usize)> {
+    (first..p.mip_count).step_by(2).map(|l| (l, (mip_size(p.width, l + 1) * mip_size(p.height, l + 1)) as usize)).collect()
 }
 
 /// The parameters for `gb` and `s` (pipeline-specific values are set by the caller).
@@ -415,7 +426,7 @@ impl<'a> Runner<'a> {
         for (level, n) in depth_pyramid_passes(&p) {
             match self.backend {
                 Backend::Cpu => {
-                    self.cpu_timed("depth pyramid", || update_in_place(&mut pyr, n, |pyr, i| kern::hiz_downsample(&p, pyr, level, i)));
+                    self.cpu_timed("depth pyramid", || update_in_place(&mut pyr, n, |pyr, i| trace::hiz_block(&p, pyr, level, i), |b, pyr| b.store(pyr)));
                 }
                 Backend::Gpu(_) => {
                     pyr = self.gpu_pass("depth pyramid", "ssr::ssr_hiz_downsample", n as u32, &[level], consts, &[], total, Some(&pyr))?;
@@ -429,21 +440,13 @@ impl<'a> Runner<'a> {
     pub fn color_pyramid(&mut self, consts: &SsrParams, color: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let total = pyramid_texels(p.width, p.height) * COLOR_STRIDE;
+        anyhow::ensure!(color.len() == (p.width * p.height) as usize * COLOR_STRIDE, "colour has {} values, expected {} ({}x{} RGB)", color.len(), (p.width * p.height) as usize * COLOR_STRIDE, p.width, p.height);
         let mut pyr = vec![0.0f32; total];
         pyr[..color.len()].copy_from_slice(color);
-        for level in 1..p.mip_count {
-            let (w, h) = (mip_size(p.width, level), mip_size(p.height, level));
-            let off = trace::p_mip_offset(&p, level) as usize * COLOR_STRIDE;
-            let n = (w * h) as usize;
+        for (level, n) in color_pyramid_passes(&p) {
             match self.backend {
                 Backend::Cpu => {
-                    self.cpu_timed("color pyramid", || {
-                        let (src, dst) = pyr.split_at_mut(off);
-                        dst[..n * COLOR_STRIDE].par_chunks_mut(COLOR_STRIDE).enumerate().for_each(|(i, o)| {
-                            let c = kern::color_downsample(&p, src, level, i as u32);
-                            o.copy_from_slice(&[c.x, c.y, c.z]);
-                        });
-                    });
+                    self.cpu_timed("color pyramid", || update_in_place(&mut pyr, n, |pyr, i| resolve::color_block(&p, pyr, level, i), |b, pyr| b.store(pyr)));
                 }
                 Backend::Gpu(_) => {
                     pyr = self.gpu_pass("color pyramid", "ssr::ssr_color_downsample", n as u32, &[level], consts, &[], total, Some(&pyr))?;

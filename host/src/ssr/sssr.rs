@@ -4,14 +4,13 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, color_pyramid_passes, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
-use shader_core::ssr::params::mip_size;
 use shader_core::ssr::resolve::{COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
@@ -218,8 +217,7 @@ impl Runner<'_> {
         let indirect = |buffer: usize| ChainDispatch::Indirect { buffer, offset_bytes: (stochastic::INDIRECT_OFFSET * 4) as u64 };
         // Argument records: per pyramid level, tiles, the two scans.
         let depth_levels = depth_pyramid_passes(&p);
-        let levels: Vec<(u32, usize)> =
-            (1..p.mip_count).map(|l| (l, (mip_size(p.width, l) * mip_size(p.height, l)) as usize)).collect();
+        let levels = color_pyramid_passes(&p);
         let level_args: Vec<Vec<u32>> = depth_levels.iter().chain(&levels).map(|&(l, cnt)| args_for(cnt, &[l])).collect();
         let tile_args = args_for(n, &[]);
         let ray_scan_args = scan_pass_args(n, stochastic::TILE_RAYS);

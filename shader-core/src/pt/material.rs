@@ -92,8 +92,7 @@ impl Material {
         }
         mat.mode = mode;
         let mu = crate::math::max(wo.z.abs(), MU_MIN);
-        let e_o = energy::lut_e(lut, mu, r);
-        let e_p = energy::lut_e_prime(lut, mu, r);
+        let (e_o, e_p) = energy::lut_e_and_e_prime(lut, mu, r);
         // Specular albedo of the dielectric lobe, E'' = F0 E + (1 - F0) E' (Schlick split).
         let e2_d = energy::schlick_albedo(e_o, e_p, DIELECTRIC_F0, 1.0);
         let m = gltf.metallic;

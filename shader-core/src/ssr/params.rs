@@ -167,3 +167,38 @@ pub fn mip_size(w: u32, level: u32) -> u32 {
         s
     }
 }
+
+/// The columns (or rows) 2x and 2x + 1 of a mip `n` texels wide under column x of the mip above
+/// it, the second repeating the first past the edge of an odd size: every texel of a mip lies
+/// under exactly one texel of the next.
+#[inline]
+pub fn mip_children(x: u32, n: u32) -> (u32, u32) {
+    let x0 = 2 * x;
+    (x0, if x0 + 1 < n { x0 + 1 } else { x0 })
+}
+
+/// What one invocation of a pyramid pass writes: the 2x2 texels of mip `level` under one texel of
+/// mip `level + 1` (texels (x0, y0), (x1, y0), (x0, y1), (x1, y1) of [`mip_children`]; an index
+/// repeats at the far edge of an odd size) and, where the pyramid has mip `level + 1`, that
+/// texel, computed from them. A pass so writes two mips per dispatch with one invocation per
+/// texel of the coarser one (`trace::hiz_block`, `resolve::color_block`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MipBlock<T> {
+    /// Texel indices (in texels of the pyramid buffer) of the block in mip `level`.
+    pub texels: [u32; 4],
+    /// Their values.
+    pub values: [T; 4],
+    /// The texel of mip `level + 1` above the block and its value, if that mip exists.
+    pub above: Option<(u32, T)>,
+}
+
+/// The block of mip `level` (`w` x `h` texels at texel offset `base`) under texel `k` (row-major)
+/// of mip `level + 1`: the four texel indices and their (x, y).
+#[inline]
+pub fn mip_block_texels(w: u32, h: u32, base: u32, k: u32) -> ([u32; 4], [(u32, u32); 4]) {
+    let w_above = mip_size(w, 1);
+    let (x0, x1) = mip_children(k % w_above, w);
+    let (y0, y1) = mip_children(k / w_above, h);
+    let xy = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)];
+    ([base + y0 * w + x0, base + y0 * w + x1, base + y1 * w + x0, base + y1 * w + x1], xy)
+}

@@ -15,7 +15,7 @@
 //! ```
 
 use crate::ieee;
-use super::params::{mip_size, SsrParams};
+use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams};
 use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_STRIDE};
 use super::trace::info;
 use crate::masking;
@@ -153,20 +153,70 @@ pub fn sample_color(p: &SsrParams, pyr: &[f32], u: f32, v: f32, mip: f32) -> Vec
 }
 
 /// One texel of colour mip `level` (>= 1): the box average of the (up to) 2x2 texels of the level
-/// below it covers (edge texels repeated for odd sizes), summed as ((a + b) + (c + d)) * 0.25.
+/// below it covers (edge texels repeated for odd sizes, [`mip_children`]), [`color_box`].
 pub fn color_downsample_texel(p: &SsrParams, pyr: &[f32], level: u32, x: u32, y: u32) -> Vec3 {
-    let pw = mip_size(p.width, level - 1);
-    let ph = mip_size(p.height, level - 1);
-    let off = super::trace::p_mip_offset(p, level - 1);
-    let x0 = 2 * x;
-    let y0 = 2 * y;
-    let x1 = if x0 + 1 < pw { x0 + 1 } else { x0 };
-    let y1 = if y0 + 1 < ph { y0 + 1 } else { y0 };
+    color_children_box(p, pyr, super::trace::p_mip_offset(p, level - 1), mip_size(p.width, level - 1), mip_size(p.height, level - 1), x, y)
+}
+
+/// [`color_downsample_texel`] with the mip below given as its texel offset and size.
+#[inline]
+fn color_children_box(p: &SsrParams, pyr: &[f32], off: u32, pw: u32, ph: u32, x: u32, y: u32) -> Vec3 {
+    let (x0, x1) = mip_children(x, pw);
+    let (y0, y1) = mip_children(y, ph);
     let a = texel(p, pyr, off, pw, x0, y0);
     let b = texel(p, pyr, off, pw, x1, y0);
     let c = texel(p, pyr, off, pw, x0, y1);
     let d = texel(p, pyr, off, pw, x1, y1);
+    color_box(a, b, c, d)
+}
+
+/// The box average of a 2x2 block (texels (x0, y0), (x1, y0), (x0, y1), (x1, y1)), summed as
+/// ((a + b) + (c + d)) * 0.25: the one order every colour-pyramid texel uses.
+#[inline]
+pub fn color_box(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Vec3 {
     ((a + b) + (c + d)) * 0.25
+}
+
+impl MipBlock<Vec3> {
+    /// Write the block into the colour pyramid (RGB, [`COLOR_STRIDE`] values per texel).
+    #[inline]
+    pub fn store(&self, pyr: &mut [f32]) {
+        store_rgb(pyr, self.texels[0], self.values[0]);
+        store_rgb(pyr, self.texels[1], self.values[1]);
+        store_rgb(pyr, self.texels[2], self.values[2]);
+        store_rgb(pyr, self.texels[3], self.values[3]);
+        if let Some((j, v)) = self.above {
+            store_rgb(pyr, j, v);
+        }
+    }
+}
+
+#[inline]
+fn store_rgb(pyr: &mut [f32], texel: u32, c: Vec3) {
+    let b = (texel as usize) * COLOR_STRIDE;
+    pyr[b] = c.x;
+    pyr[b + 1] = c.y;
+    pyr[b + 2] = c.z;
+}
+
+/// A pass of the colour pyramid, invocation `k`: mips `level` and `level + 1` in one step
+/// ([`MipBlock`]; the passes are `level` = 1, 3, 5, ...; mip 0 is the frame), each texel
+/// [`color_downsample_texel`] of the mip below and the one above their [`color_box`]. Each
+/// invocation reads only the mip below, so the invocations of a pass are independent.
+pub fn color_block(p: &SsrParams, pyr: &[f32], level: u32, k: u32) -> MipBlock<Vec3> {
+    let w = mip_size(p.width, level);
+    let h = mip_size(p.height, level);
+    let base = super::trace::p_mip_offset(p, level);
+    let (texels, xy) = mip_block_texels(w, h, base, k);
+    let (below, pw, ph) = (super::trace::p_mip_offset(p, level - 1), mip_size(p.width, level - 1), mip_size(p.height, level - 1));
+    let values = [
+        color_children_box(p, pyr, below, pw, ph, xy[0].0, xy[0].1),
+        color_children_box(p, pyr, below, pw, ph, xy[1].0, xy[1].1),
+        color_children_box(p, pyr, below, pw, ph, xy[2].0, xy[2].1),
+        color_children_box(p, pyr, below, pw, ph, xy[3].0, xy[3].1),
+    ];
+    let above = if level + 1 < p.mip_count { Some((base + w * h + k, color_box(values[0], values[1], values[2], values[3]))) } else { None };
+    MipBlock { texels, values, above }
 }
 
 /// A decoded ray record.

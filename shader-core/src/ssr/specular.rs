@@ -13,7 +13,7 @@
 use super::params::SsrParams;
 use super::trace::{load_surface, GBUF_STRIDE};
 use crate::buffer::{load, store};
-use crate::energy::{lut_e, lut_e_prime, schlick_albedo, DIELECTRIC_F0};
+use crate::energy::{lut_e_and_e_prime, schlick_albedo, DIELECTRIC_F0};
 use crate::vector::Vec3;
 
 /// Values per pixel of the specular output: premultiplied RGB and the reflection's opacity.
@@ -35,8 +35,7 @@ pub fn fg_pixel(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], x:
     let i = (y * p.width + x) as usize;
     let metalness = load(gbuf, i * GBUF_STRIDE + 5);
     let mu = s.n.dot(s.v);
-    let e = lut_e(lut, mu, s.perceptual_roughness);
-    let ep = lut_e_prime(lut, mu, s.perceptual_roughness);
+    let (e, ep) = lut_e_and_e_prime(lut, mu, s.perceptual_roughness);
     let b = i * 3;
     Vec3::new(
         schlick_albedo(e, ep, metal_rough_f0(load(base_color, b), metalness), 1.0),

@@ -29,7 +29,7 @@
 //! ```
 
 use crate::ieee;
-use super::params::{mip_size, SsrParams, FLAG_BACKFACE_REJECT, FLAG_STOCHASTIC};
+use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_BACKFACE_REJECT, FLAG_STOCHASTIC};
 use crate::vector::Vec3;
 
 /// Floats per G-buffer texel: depth, normal (world) x y z, perceptual roughness, metalness,
@@ -570,16 +570,74 @@ pub fn hdrp_trace_pixel(p: &SsrParams, gbuf: &[f32], pyr: &[f32], x: u32, y: u32
 /// rounded near / z does not increase with z, this is bit for bit the device depth of the cell's
 /// minimum linear depth.
 pub fn hiz_downsample_texel(p: &SsrParams, pyr: &[f32], level: u32, x: u32, y: u32) -> f32 {
-    let pw = mip_size(p.width, level - 1);
-    let ph = mip_size(p.height, level - 1);
-    let base = p_mip_offset(p, level - 1);
-    let x0 = 2 * x;
-    let y0 = 2 * y;
-    let x1 = if x0 + 1 < pw { x0 + 1 } else { x0 };
-    let y1 = if y0 + 1 < ph { y0 + 1 } else { y0 };
+    hiz_children_max(pyr, p_mip_offset(p, level - 1), mip_size(p.width, level - 1), mip_size(p.height, level - 1), x, y)
+}
+
+/// [`hiz_downsample_texel`] with the mip below given as its texel offset and size.
+#[inline]
+fn hiz_children_max(pyr: &[f32], base: u32, pw: u32, ph: u32, x: u32, y: u32) -> f32 {
+    let (x0, x1) = mip_children(x, pw);
+    let (y0, y1) = mip_children(y, ph);
     let a = pyr[(base + y0 * pw + x0) as usize];
     let b = pyr[(base + y0 * pw + x1) as usize];
     let c = pyr[(base + y1 * pw + x0) as usize];
     let d = pyr[(base + y1 * pw + x1) as usize];
+    hiz_max(a, b, c, d)
+}
+
+/// The max-device-depth of a 2x2 block (texels (x0, y0), (x1, y0), (x0, y1), (x1, y1)), in the one
+/// order every pyramid texel uses.
+#[inline]
+pub fn hiz_max(a: f32, b: f32, c: f32, d: f32) -> f32 {
     maxf(maxf(a, b), maxf(c, d))
+}
+
+impl MipBlock<f32> {
+    /// Write the block into the pyramid buffer (one value per texel).
+    #[inline]
+    pub fn store(&self, pyr: &mut [f32]) {
+        pyr[self.texels[0] as usize] = self.values[0];
+        pyr[self.texels[1] as usize] = self.values[1];
+        pyr[self.texels[2] as usize] = self.values[2];
+        pyr[self.texels[3] as usize] = self.values[3];
+        if let Some((j, v)) = self.above {
+            pyr[j as usize] = v;
+        }
+    }
+}
+
+/// A pass of the max-device-depth pyramid, invocation `k`: mips `level` and `level + 1` in one
+/// step ([`MipBlock`]; the passes are `level` = 0, 2, 4, ...). For `level` 0 the block's texels
+/// hold linear depth, converted in place to device depth ([`device_depth`]); blocks
+/// `w1 h1..2 w1 h1` (w1 x h1 = mip 1's size) then cover the far-depth layer at
+/// [`SsrParams::far_depth_offset`] where the parameters have one (converted only: it has no mips).
+/// For `level` >= 1 each texel is the maximum of the mip below ([`hiz_downsample_texel`]). Each invocation
+/// reads only its own block's texels or the mip below, so the invocations of a pass are
+/// independent.
+pub fn hiz_block(p: &SsrParams, pyr: &[f32], level: u32, k: u32) -> MipBlock<f32> {
+    let w = mip_size(p.width, level);
+    let h = mip_size(p.height, level);
+    let n_above = mip_size(w, 1) * mip_size(h, 1);
+    let far = level == 0 && k >= n_above;
+    let base = if far { p.far_depth_offset } else { p_mip_offset(p, level) };
+    let b = if far { k - n_above } else { k };
+    let (texels, xy) = mip_block_texels(w, h, base, b);
+    let values = if level == 0 {
+        [
+            device_depth(p, pyr[texels[0] as usize]),
+            device_depth(p, pyr[texels[1] as usize]),
+            device_depth(p, pyr[texels[2] as usize]),
+            device_depth(p, pyr[texels[3] as usize]),
+        ]
+    } else {
+        let (below, pw, ph) = (p_mip_offset(p, level - 1), mip_size(p.width, level - 1), mip_size(p.height, level - 1));
+        [
+            hiz_children_max(pyr, below, pw, ph, xy[0].0, xy[0].1),
+            hiz_children_max(pyr, below, pw, ph, xy[1].0, xy[1].1),
+            hiz_children_max(pyr, below, pw, ph, xy[2].0, xy[2].1),
+            hiz_children_max(pyr, below, pw, ph, xy[3].0, xy[3].1),
+        ]
+    };
+    let above = if !far && level + 1 < p.mip_count { Some((base + w * h + b, hiz_max(values[0], values[1], values[2], values[3]))) } else { None };
+    MipBlock { texels, values, above }
 }
