@@ -290,3 +290,34 @@ fn color_pyramid_is_the_box_pyramid_of_the_frame() {
     }
     assert!(mip_counts.iter().any(|m| m % 2 == 0) && mip_counts.iter().any(|m| m % 2 == 1), "mip counts {mip_counts:?}: want both parities");
 }
+
+/// The trilinear colour lookup is the lerp of the two bilinear level lookups around its mip
+/// (`resolve::sample_color` addresses mip l0 + 1 from mip l0's offset), at every mip of the
+/// pyramid of an odd-sized frame, inside and outside [0, 1] in u and v.
+#[test]
+fn trilinear_colour_lookup_is_the_lerp_of_its_two_levels() {
+    use host::ssr::pipeline::{build_params, Runner};
+    use shader_core::ssr::resolve::{lerp, sample_color, sample_color_level};
+    let g = scene("thin").unwrap().render_gbuffer(37, 29, 0);
+    let p = build_params(&g, &host::ssr::SsrSettings::default()).unwrap();
+    let pyr = Runner::new(&host::Backend::Cpu).color_pyramid(&p, &g.color).unwrap();
+    assert!(p.color_max_mip >= 3, "{}", p.color_max_mip);
+    let mut checked = 0;
+    for level in 0..=p.color_max_mip {
+        for f in [0.0f32, 0.25, 0.5, 0.875] {
+            for (u, v) in [(0.0f32, 0.0f32), (0.3, 0.7), (0.51, 0.49), (1.0, 1.0), (-0.2, 1.3), (0.97, 0.03)] {
+                let c = sample_color(&p, &pyr, u, v, level as f32 + f);
+                let a = sample_color_level(&p, &pyr, u, v, level);
+                let want = if f > 0.0 && level < p.color_max_mip {
+                    let b = sample_color_level(&p, &pyr, u, v, level + 1);
+                    [lerp(a.x, b.x, f), lerp(a.y, b.y, f), lerp(a.z, b.z, f)]
+                } else {
+                    [a.x, a.y, a.z]
+                };
+                assert_eq!([c.x.to_bits(), c.y.to_bits(), c.z.to_bits()], want.map(f32::to_bits), "mip {level} + {f} at ({u}, {v})");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 50);
+}

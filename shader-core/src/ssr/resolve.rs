@@ -117,9 +117,12 @@ fn texel(p: &SsrParams, pyr: &[f32], off: u32, w: u32, x: u32, y: u32) -> Vec3 {
 
 /// Bilinear sample of colour pyramid level `level` at (u, v) in [0, 1] (clamped), clamp-to-edge.
 pub fn sample_color_level(p: &SsrParams, pyr: &[f32], u: f32, v: f32, level: u32) -> Vec3 {
-    let w = mip_size(p.width, level);
-    let h = mip_size(p.height, level);
-    let off = super::trace::p_mip_offset(p, level);
+    sample_color_mip(p, pyr, u, v, super::trace::p_mip_offset(p, level), mip_size(p.width, level), mip_size(p.height, level))
+}
+
+/// [`sample_color_level`] of the mip at texel offset `off`, `w` x `h` texels.
+#[inline]
+fn sample_color_mip(p: &SsrParams, pyr: &[f32], u: f32, v: f32, off: u32, w: u32, h: u32) -> Vec3 {
     let tx = clampf(u, 0.0, 1.0) * w as f32 - 0.5;
     let ty = clampf(v, 0.0, 1.0) * h as f32 - 0.5;
     let fx0 = Float::floor(tx);
@@ -143,9 +146,11 @@ pub fn sample_color(p: &SsrParams, pyr: &[f32], u: f32, v: f32, mip: f32) -> Vec
     let l0f = Float::floor(m);
     let l0 = l0f as u32;
     let f = m - l0f;
-    let c0 = sample_color_level(p, pyr, u, v, l0);
+    // Mip l0 + 1 follows mip l0 in the buffer: one offset sum serves both.
+    let (off0, w0, h0) = (super::trace::p_mip_offset(p, l0), mip_size(p.width, l0), mip_size(p.height, l0));
+    let c0 = sample_color_mip(p, pyr, u, v, off0, w0, h0);
     if f > 0.0 && l0 < p.color_max_mip {
-        let c1 = sample_color_level(p, pyr, u, v, l0 + 1);
+        let c1 = sample_color_mip(p, pyr, u, v, off0 + w0 * h0, mip_size(w0, 1), mip_size(h0, 1));
         lerp3(c0, c1, f)
     } else {
         c0
