@@ -48,9 +48,36 @@ pub fn adapter_env() -> String {
 }
 
 /// This process's command line after [`adapter_env`]
-/// (`HOST_ADAPTER=25.0.7-2~bpo12+1 host bench storage ...`).
+/// (`HOST_ADAPTER=25.0.7-2~bpo12+1 host bench storage ...`), each argument quoted for a POSIX
+/// shell where it needs it ([`shell_word`]), so the line reruns as it is.
 pub fn command_line() -> String {
-    format!("{}{}", adapter_env(), std::env::args().collect::<Vec<_>>().join(" "))
+    format!("{}{}", adapter_env(), std::env::args().map(|a| shell_word(&a)).collect::<Vec<_>>().join(" "))
+}
+
+/// `word` as a POSIX shell reads it back: unchanged when it holds only characters no shell
+/// treats specially, else in single quotes (a `'` inside written `'\''`).
+pub fn shell_word(word: &str) -> String {
+    let plain = !word.is_empty() && word.chars().all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c));
+    if plain {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', "'\\''"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn shell_words_quote_what_a_shell_would_split_or_expand() {
+        use super::shell_word;
+        assert_eq!(shell_word("--width"), "--width");
+        assert_eq!(shell_word("out/a.md"), "out/a.md");
+        assert_eq!(shell_word("gpu:22.3.6,cpu"), "gpu:22.3.6,cpu");
+        assert_eq!(shell_word("--scene floor --pipeline sssr"), "'--scene floor --pipeline sssr'");
+        assert_eq!(shell_word("it's"), "'it'\\''s'");
+        assert_eq!(shell_word("$HOME"), "'$HOME'");
+        assert_eq!(shell_word(""), "''");
+    }
 }
 
 impl RunInfo {

@@ -274,7 +274,7 @@ fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
 
 #[test]
 fn every_option_is_documented_and_help_matches_defaults() {
-    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"]] {
+    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["ssr", "passes"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"]] {
         let mut args = cmd.to_vec();
         args.push("--help");
         let o = host(&args, &[]);
@@ -403,4 +403,42 @@ fn failed_write_keeps_the_existing_file() {
     assert_eq!(std::fs::read_to_string(out.join("keep")).unwrap(), "keep");
     let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with(".tmp")).collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+}
+
+/// `host ssr passes`: one row per pass with a cell per backend, the bits compared, JSON beside
+/// the Markdown; configurations are checked as `host ssr` checks its options, and a backend that
+/// does not exist is named.
+#[test]
+fn ssr_passes_times_every_backend_and_compares_their_bits() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = dir.path().join("passes.md");
+    let (w, h) = ("--width=40", "--height=24");
+    // The GPU column needs an adapter (CI has lavapipe); without one, the CPU backend twice.
+    let devices = if text(&host(&["info"], &[])).contains("llvmpipe") { "cpu,gpu:llvmpipe" } else { "cpu,cpu" };
+    let o = host(
+        &["ssr", "passes", "--config", "--scene floor --pipeline sssr", "--config", "--scene thin --pipeline hdrp --resolve 3x3", w, h, "--devices", devices, "--rounds", "1", "--report", path(&md)],
+        &[],
+    );
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    let report = std::fs::read_to_string(&md).unwrap();
+    for needle in ["| 1 | `--scene floor --pipeline sssr` | 40x24 |", "| depth pyramid |", "| resolve |", "| specular |", "| **frame** |", "| reflection + specular bits | same | same |"] {
+        assert!(report.contains(needle), "{needle:?} missing from:\n{report}");
+    }
+    // Every timed cell holds one figure per backend.
+    let frame = report.lines().find(|l| l.starts_with("| **frame** |")).unwrap();
+    assert_eq!(frame.matches(" / ").count(), 2, "{frame}");
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(md.with_extension("json")).unwrap()).unwrap();
+    let rows = json["rows"].as_array().unwrap();
+    assert!(rows.iter().any(|r| r["pass"] == "trace" && r["rounds_ms"].as_array().unwrap().len() == 1 && r["fastest_ms"].as_f64().unwrap() > 0.0), "{json}");
+    assert!(rows.iter().all(|r| r["same_bits_as_first"] == true));
+    // Bad input is named.
+    fails_with(&["ssr", "passes", w, h, "--devices", "cpu,tpu"], &["--devices", "\"tpu\"", "gpu:NAME"]);
+    if devices.contains("gpu") {
+        fails_with(&["ssr", "passes", w, h, "--devices", "gpu:no such adapter"], &["gpu:no such adapter", "no Vulkan adapter matches \"no such adapter\"; available: llvmpipe"]);
+    }
+    fails_with(&["ssr", "passes", "--config", "--scene floor --width 64", "--devices", "cpu"], &["--config", "--width"]);
+    fails_with(&["ssr", "passes", "--config", "--scene floor --pipeline sssr --resolve 3x3", w, h, "--devices", "cpu"], &["--resolve", "--pipeline hdrp"]);
+    fails_with(&["ssr", "passes", "--config", "--scene floor --thickness=-1", w, h, "--devices", "cpu"], &["--thickness", "[0, 1]"]);
+    fails_with(&["ssr", "passes", "--rounds", "0"], &["--rounds"]);
 }

@@ -32,6 +32,12 @@ pub enum Backend {
 }
 
 impl Backend {
+    /// The GPU backend on the adapter whose name or driver contains `name` (as `HOST_ADAPTER`
+    /// would select it, whatever that variable says), with the build `HOST_DIV_SQRT` chooses.
+    pub fn gpu_named(name: &str) -> Result<Backend> {
+        Ok(Backend::Gpu(Box::new(GpuContext::with_div_sqrt_choice_on(Some(name))?)))
+    }
+
     /// Create the backend the user chose (see [`DeviceChoice`]). The GPU backend refuses SPIR-V
     /// that is stale relative to the shader sources this binary was built from, and loads the
     /// build of the main module `HOST_DIV_SQRT` chooses ([`crate::shaders::DivSqrtChoice`]).

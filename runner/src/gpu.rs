@@ -20,7 +20,9 @@ pub enum GpuError {
          lavapipe: `apt-get install -y mesa-vulkan-drivers libvulkan1`)"
     )]
     NoAdapter,
-    #[error("no Vulkan adapter matches HOST_ADAPTER={0:?}; available: {1}")]
+    /// No adapter's name or driver contains the name asked for (shown as asked: `HOST_ADAPTER="..."`
+    /// or the quoted name); the second field lists the adapters.
+    #[error("no Vulkan adapter matches {0}; available: {1}")]
     NoMatchingAdapter(String, String),
     #[error("the GPU SPIR-V cannot be used: {0}")]
     Shader(String),
@@ -76,10 +78,24 @@ pub fn adapter_label(info: &wgpu::AdapterInfo) -> String {
     format!("{} {} {}", info.name, info.driver, info.driver_info)
 }
 
+/// An adapter-matching error of a name that came from `HOST_ADAPTER`, said so.
+fn from_env(e: GpuError) -> GpuError {
+    match e {
+        GpuError::NoMatchingAdapter(want, names) => GpuError::NoMatchingAdapter(format!("HOST_ADAPTER={want}"), names),
+        e => e,
+    }
+}
+
 impl GpuContext {
     /// Pick a Vulkan adapter (discrete > integrated > virtual > CPU; `HOST_ADAPTER=substring`
     /// selects by name or driver, see [`adapter_label`]), create a device and load the SPIR-V.
     pub fn new(shader: &ShaderModule) -> Result<Self, GpuError> {
+        GpuContext::on_adapter(shader, std::env::var("HOST_ADAPTER").ok().as_deref()).map_err(from_env)
+    }
+
+    /// [`GpuContext::new`] on the adapter whose [`adapter_label`] contains `want`
+    /// (case-insensitive; `None`: the best-ranked adapter), whatever `HOST_ADAPTER` says.
+    pub fn on_adapter(shader: &ShaderModule, want: Option<&str>) -> Result<Self, GpuError> {
         ensure_xdg_runtime_dir();
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
         desc.backends = wgpu::Backends::VULKAN;
@@ -88,11 +104,11 @@ impl GpuContext {
         if adapters.is_empty() {
             return Err(GpuError::NoAdapter);
         }
-        if let Ok(want) = std::env::var("HOST_ADAPTER") {
+        if let Some(want) = want {
             let names: Vec<String> = adapters.iter().map(|a| adapter_label(&a.get_info())).collect();
             adapters.retain(|a| adapter_label(&a.get_info()).to_lowercase().contains(&want.to_lowercase()));
             if adapters.is_empty() {
-                return Err(GpuError::NoMatchingAdapter(want, names.join(", ")));
+                return Err(GpuError::NoMatchingAdapter(format!("{want:?}"), names.join(", ")));
             }
         }
         adapters.sort_by_key(|a| adapter_rank(a.get_info().device_type));
@@ -172,10 +188,15 @@ impl GpuContext {
     /// and [`crate::div_sqrt_probe::run`] finds them so on this adapter, else the exact build.
     /// The description ([`GpuContext::describe`]) says which and why.
     pub fn with_div_sqrt_choice() -> Result<Self, GpuError> {
+        GpuContext::with_div_sqrt_choice_on(std::env::var("HOST_ADAPTER").ok().as_deref()).map_err(from_env)
+    }
+
+    /// [`GpuContext::with_div_sqrt_choice`] on the adapter `want` names ([`GpuContext::on_adapter`]).
+    pub fn with_div_sqrt_choice_on(want: Option<&str>) -> Result<Self, GpuError> {
         use crate::shaders::{load_variant, DivSqrt, DivSqrtChoice};
         let choice = DivSqrtChoice::from_env().map_err(GpuError::Shader)?;
         let first = if choice == DivSqrtChoice::Auto { DivSqrt::Native } else { choice.without_adapter() };
-        let mut g = GpuContext::new(&load_variant(first).map_err(GpuError::Shader)?)?;
+        let mut g = GpuContext::on_adapter(&load_variant(first).map_err(GpuError::Shader)?, want)?;
         match choice {
             DivSqrtChoice::Exact => g.div_sqrt_why = "HOST_DIV_SQRT=exact".into(),
             DivSqrtChoice::Native => g.div_sqrt_why = "HOST_DIV_SQRT=native: bit-exact with the CPU only where the driver rounds them correctly".into(),

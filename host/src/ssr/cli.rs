@@ -262,6 +262,19 @@ pub fn run_pipeline(backend: &Backend, input: &Input, a: &RunArgs) -> Result<Ssr
     }
 }
 
+/// One frame: [`run_pipeline`], then the specular pass (the reflection composited over the
+/// sky, times FG from the energy tables `lut`). Returns the result, whose `times` end with the
+/// specular pass's, and the specular term (premultiplied RGB and opacity per pixel).
+pub fn run_frame(backend: &Backend, input: &Input, a: &RunArgs, lut: &[f32]) -> Result<(SsrResult, Vec<f32>)> {
+    let mut result = run_pipeline(backend, input, a)?;
+    let consts = super::pipeline::build_params(&input.gbuffer, &a.settings())?;
+    let comp: Vec<f32> = composite(&result.reflection, input.gbuffer.fallback).chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
+    let mut r = super::pipeline::Runner::new(backend);
+    let specular = r.specular(&consts, &input.gbuffer.packed(), &input.gbuffer.base_color, lut, &comp)?;
+    result.times.extend(r.times);
+    Ok((result, specular))
+}
+
 /// Errors of a result against a reference.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct Errors {
@@ -486,14 +499,8 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
     let tables = crate::energy::load_or_precompute(&backend, &a.lut)?;
-    let mut result = run_pipeline(&backend, &input, a)?;
-    // Specular = composited reflection x FG (energy tables), a pass of its own.
+    let (result, specular) = run_frame(&backend, &input, a, &tables.lut_buffer())?;
     let sky = input.gbuffer.fallback;
-    let consts = super::pipeline::build_params(&input.gbuffer, &a.settings())?;
-    let comp: Vec<f32> = composite(&result.reflection, sky).chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
-    let mut r = super::pipeline::Runner::new(&backend);
-    let specular = r.specular(&consts, &input.gbuffer.packed(), &input.gbuffer.base_color, &tables.lut_buffer(), &comp)?;
-    result.times.extend(r.times);
     for t in &result.times {
         eprintln!("  {:<16} {:>9.3} ms ({})", t.name, t.seconds * 1e3, t.source);
     }
@@ -618,6 +625,10 @@ pub enum SsrSub {
     /// GPU wall-clock time of one stochastic frame: every pass submitted and read back on its own
     /// against the whole frame in one command buffer (indirect trace); prints a Markdown table.
     Wall(super::bench::WallArgs),
+    /// Per-pass frame times of several configurations on several backends in one process
+    /// (e.g. the CPU backend and two lavapipes), alternated, fastest of some rounds; checks that
+    /// every backend's reflection and specular term are bit-identical; Markdown + JSON.
+    Passes(super::passes::PassesArgs),
 }
 
 /// `host ssr ...`; `given(id)` says whether option `id` (a field name) was on the command line.
@@ -626,6 +637,7 @@ pub fn main(cmd: SsrCommand, given: &dyn Fn(&str) -> bool) -> Result<()> {
         Some(SsrSub::Bench(b)) => super::bench::run(&b),
         Some(SsrSub::Ablate(b)) => super::bench::run_ablate(&b),
         Some(SsrSub::Wall(b)) => super::bench::run_wall(&b),
+        Some(SsrSub::Passes(b)) => super::passes::run(&b),
         None => {
             cmd.run.validate(given)?;
             run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref())

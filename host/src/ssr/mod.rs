@@ -9,6 +9,7 @@ pub mod gbuffer;
 pub mod gltf_scenes;
 pub mod legend;
 pub mod metrics;
+pub mod passes;
 pub mod pipeline;
 pub mod reference;
 pub mod scene;
