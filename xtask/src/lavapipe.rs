@@ -79,6 +79,18 @@ pub fn env(icd: &Path) -> [(&'static str, String); 2] {
     [("VK_ICD_FILENAMES", icd.display().to_string()), ("HOST_ADAPTER", ADAPTER_MATCH.to_string())]
 }
 
+/// The system's lavapipe manifest (Debian 12's `mesa-vulkan-drivers`, Mesa 22.3.6).
+pub const SYSTEM_ICD: &str = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
+
+/// The environment that makes a program see both lavapipes, this one and the system's (selected
+/// by driver name, e.g. `host ssr passes --devices gpu:22.3.6,gpu:25.0.7`).
+pub fn env_beside_system(icd: &Path) -> Result<[(&'static str, String); 1]> {
+    if !Path::new(SYSTEM_ICD).exists() {
+        bail!("no system lavapipe at {SYSTEM_ICD} (apt-get install -y mesa-vulkan-drivers)");
+    }
+    Ok([("VK_ICD_FILENAMES", format!("{}:{SYSTEM_ICD}", icd.display()))])
+}
+
 fn run(cmd: &mut Command, what: &str) -> Result<()> {
     let status = cmd.status().with_context(|| format!("running {what}"))?;
     if !status.success() {

@@ -250,6 +250,27 @@ const REPORTS: &[(&str, &[&str])] = &[
     ("render", &["bench", "render", "--device", "auto", "--report", "docs/render-bench.md"]),
     ("furnace", &["energy", "furnace", "--device", "auto", "--spheres", "11", "--size", "64", "--samples", "256", "-o", "out/docs-reports/energy-furnace.exr"]),
     (
+        "ssr-passes",
+        &[
+            "ssr",
+            "passes",
+            "--devices",
+            "gpu:22.3.6,gpu:25.0.7,cpu",
+            "--config",
+            "--scene floor --pipeline sssr",
+            "--config",
+            "--scene floor --pipeline hdrp",
+            "--config",
+            "--scene floor --pipeline hdrp --resolve 3x3",
+            "--config",
+            "--input out/ssr-scenes/cornell-1920x1080-main-c16-r64.exr --pipeline sssr",
+            "--config",
+            "--input out/ssr-scenes/cornell-1920x1080-main-c16-r64.exr --pipeline hdrp",
+            "--report",
+            "docs/ssr-passes-1080p.md",
+        ],
+    ),
+    (
         "ssr",
         &[
             "ssr", "bench", "--device", "auto", "--width", "128", "--height", "128", "--reference-samples", "256", "--colour-spp", "64", "--frame",
@@ -286,6 +307,16 @@ fn docs_reports(only: &[String]) -> Result<()> {
         cmd.current_dir(&root).args(*args);
         if name.ends_with("-mesa25") {
             for (k, v) in lavapipe::env(&lavapipe::ensure(&root)?) {
+                cmd.env(k, v);
+            }
+        }
+        if *name == "ssr-passes" {
+            // Both lavapipes in one process; the cornell G-buffer is the 1080p bench's export.
+            let cornell = root.join("out/ssr-scenes/cornell-1920x1080-main-c16-r64.exr");
+            if !cornell.exists() {
+                bail!("[docs-reports] ssr-passes needs {} (written by the 1080p `ssr bench` of docs/ssr.md's \"Commands\")", cornell.display());
+            }
+            for (k, v) in lavapipe::env_beside_system(&lavapipe::ensure(&root)?)? {
                 cmd.env(k, v);
             }
         }
