@@ -432,7 +432,25 @@ fn ssr_passes_times_every_backend_and_compares_their_bits() {
     let rows = json["rows"].as_array().unwrap();
     assert!(rows.iter().any(|r| r["pass"] == "trace" && r["rounds_ms"].as_array().unwrap().len() == 1 && r["fastest_ms"].as_f64().unwrap() > 0.0), "{json}");
     assert!(rows.iter().all(|r| r["same_bits_as_first"] == true));
+    // Against that run as the baseline: a ratio per cell, "-" for a configuration it lacks.
+    let md2 = dir.path().join("again.md");
+    let baseline = md.with_extension("json");
+    let o = host(
+        &["ssr", "passes", "--config", "--scene floor --pipeline sssr", "--config", "--scene floor --pipeline hdrp", w, h, "--devices", devices, "--rounds", "1", "--baseline", path(&baseline), "--report", path(&md2)],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let again = std::fs::read_to_string(&md2).unwrap();
+    let ratios = again.split("over the baseline's").nth(1).unwrap_or_else(|| panic!("no baseline table:\n{again}"));
+    let frame = ratios.lines().find(|l| l.starts_with("| **frame** |")).unwrap();
+    let cells: Vec<&str> = frame.trim_matches('|').split('|').map(str::trim).collect();
+    assert!(cells[1].split(" / ").all(|c| c.ends_with('x') && c.trim_end_matches('x').parse::<f64>().unwrap() > 0.0), "{frame}");
+    assert_eq!(cells[2], "- / -", "{frame}");
     // Bad input is named.
+    let not_passes = dir.path().join("other.json");
+    std::fs::write(&not_passes, r#"{"run": {}, "rows": [{"scene": "floor"}]}"#).unwrap();
+    fails_with(&["ssr", "passes", w, h, "--devices", "cpu", "--baseline", path(&not_passes)], &["--baseline", "other.json", "not a `host ssr passes` JSON"]);
+    fails_with(&["ssr", "passes", w, h, "--devices", "cpu", "--baseline", "/nonexistent/b.json"], &["--baseline", "/nonexistent/b.json"]);
     fails_with(&["ssr", "passes", w, h, "--devices", "cpu,tpu"], &["--devices", "\"tpu\"", "gpu:NAME"]);
     if devices.contains("gpu") {
         fails_with(&["ssr", "passes", w, h, "--devices", "gpu:no such adapter"], &["gpu:no such adapter", "no Vulkan adapter matches \"no such adapter\"; available: llvmpipe"]);

@@ -44,6 +44,32 @@ pub struct PassesArgs {
     /// Markdown report; the JSON (every round of every pass) is written beside it.
     #[arg(long, default_value = "out/ssr-passes.md")]
     pub report: PathBuf,
+    /// The JSON of an earlier run (e.g. of the binary before a change): the report adds a table
+    /// of this run's fastest times over that run's, per pass, configuration and backend (matched
+    /// by their labels; "-" where the earlier run has no such cell).
+    #[arg(long)]
+    pub baseline: Option<PathBuf>,
+}
+
+/// (configuration, backend, pass) -> fastest ms of an earlier run's JSON.
+type Baseline = BTreeMap<(String, String, String), f64>;
+
+fn load_baseline(path: &std::path::Path) -> Result<Baseline> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("--baseline {}", path.display()))?;
+    let doc: serde_json::Value = serde_json::from_str(&text).with_context(|| format!("--baseline {}: not JSON", path.display()))?;
+    let rows = doc["rows"].as_array().with_context(|| format!("--baseline {}: no \"rows\" array (not a `host ssr passes` JSON)", path.display()))?;
+    let mut out = Baseline::new();
+    for (i, r) in rows.iter().enumerate() {
+        let field = |k: &str| r[k].as_str().map(String::from).with_context(|| format!("--baseline {}: row {i} has no {k:?} (not a `host ssr passes` JSON)", path.display()));
+        let key = (field("config")?, field("device")?, field("pass")?);
+        let ms = r["fastest_ms"].as_f64().filter(|v| v.is_finite() && *v > 0.0);
+        let ms = ms.with_context(|| format!("--baseline {}: row {i}: \"fastest_ms\" is not a positive number", path.display()))?;
+        out.insert(key, ms);
+    }
+    if out.is_empty() {
+        bail!("--baseline {}: no rows", path.display());
+    }
+    Ok(out)
 }
 
 /// A `host ssr` command line of its own, to parse one configuration.
@@ -138,6 +164,7 @@ fn one_frame(d: &Device, c: &Config) -> Result<(BTreeMap<String, f64>, Vec<Strin
 
 pub fn run(a: &PassesArgs) -> Result<()> {
     crate::io::prepare_output(&a.report)?;
+    let baseline = a.baseline.as_deref().map(load_baseline).transpose()?;
     let configs: Vec<Config> = a.configs.iter().map(|l| parse_config(l, a.width, a.height)).collect::<Result<_>>()?;
     let devices = parse_devices(&a.devices)?;
     for d in &devices {
@@ -189,7 +216,7 @@ pub fn run(a: &PassesArgs) -> Result<()> {
             }
         }
     }
-    let md = markdown(a, &info, &configs, &devices, &order, &times, &same);
+    let md = markdown(a, &info, &configs, &devices, &order, &times, &same, baseline.as_ref());
     crate::io::write_file(&a.report, md)?;
     let json = write_json(&a.report, info, &rows)?;
     eprintln!("wrote {} and {}", a.report.display(), json.display());
@@ -208,7 +235,9 @@ fn markdown(
     order: &[Vec<String>],
     times: &[Vec<BTreeMap<String, Vec<f64>>>],
     same: &[Vec<bool>],
+    baseline: Option<&Baseline>,
 ) -> String {
+    let fastest = |ci: usize, di: usize, p: &str| times[ci][di].get(p).map(|r| r.iter().copied().fold(f64::INFINITY, f64::min));
     let mut s = String::new();
     let _ = writeln!(s, "# SSR per-pass times\n");
     let _ = writeln!(s, "Command: `{}`  ", info.command);
@@ -241,7 +270,7 @@ fn markdown(
     for p in &passes {
         let cells: Vec<String> = (0..configs.len())
             .map(|ci| {
-                let v: Vec<Option<f64>> = (0..devices.len()).map(|di| times[ci][di].get(p).map(|r| r.iter().copied().fold(f64::INFINITY, f64::min))).collect();
+                let v: Vec<Option<f64>> = (0..devices.len()).map(|di| fastest(ci, di, p)).collect();
                 if v.iter().all(Option::is_none) {
                     "-".into()
                 } else {
@@ -256,5 +285,25 @@ fn markdown(
         .map(|ci| if same[ci].iter().all(|&b| b) { "same".into() } else { "DIFFERENT".to_string() })
         .collect();
     let _ = writeln!(s, "| reflection + specular bits | {} |", bits.join(" | "));
+    if let (Some(b), Some(path)) = (baseline, &a.baseline) {
+        let _ = writeln!(s, "\nThis run's fastest time over the baseline's (`{}`), same cells:\n", path.display());
+        let _ = writeln!(s, "| pass | {} |", (1..=configs.len()).map(|i| i.to_string()).collect::<Vec<_>>().join(" | "));
+        let _ = writeln!(s, "| --- |{}", " --- |".repeat(configs.len()));
+        for p in &passes {
+            let cells: Vec<String> = (0..configs.len())
+                .map(|ci| {
+                    (0..devices.len())
+                        .map(|di| match (fastest(ci, di, p), b.get(&(configs[ci].label.clone(), devices[di].label.clone(), p.clone()))) {
+                            (Some(now), Some(then)) => format!("{:.2}x", now / then),
+                            _ => "-".into(),
+                        })
+                        .collect::<Vec<_>>()
+                        .join(" / ")
+                })
+                .collect();
+            let name = if p == "frame" { "**frame**".to_string() } else { p.clone() };
+            let _ = writeln!(s, "| {name} | {} |", cells.join(" | "));
+        }
+    }
     s
 }
