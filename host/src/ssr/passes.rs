@@ -105,6 +105,11 @@ fn parse_config(line: &str, width: usize, height: usize) -> Result<Config> {
     Ok(Config { label: line.trim().to_string(), args, input, lut })
 }
 
+/// The fastest of some rounds.
+fn fastest(rounds: &[f64]) -> f64 {
+    rounds.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
 /// One backend of the table.
 struct Device {
     label: String,
@@ -197,8 +202,8 @@ pub fn run(a: &PassesArgs) -> Result<()> {
                 }
             }
         }
-        let fastest = |di: usize| times[ci][di].get("frame").map(|v| v.iter().copied().fold(f64::INFINITY, f64::min)).unwrap_or(f64::NAN);
-        eprintln!("{}: frame {}", c.label, (0..devices.len()).map(|di| format!("{} {:.1} ms", devices[di].label, fastest(di))).collect::<Vec<_>>().join(", "));
+        let frame = |di: usize| times[ci][di].get("frame").map(|v| fastest(v)).unwrap_or(f64::NAN);
+        eprintln!("{}: frame {}", c.label, (0..devices.len()).map(|di| format!("{} {:.1} ms", devices[di].label, frame(di))).collect::<Vec<_>>().join(", "));
     }
     let mut rows = Vec::new();
     for (ci, c) in configs.iter().enumerate() {
@@ -210,7 +215,7 @@ pub fn run(a: &PassesArgs) -> Result<()> {
                     adapter: d.backend.describe(),
                     pass: pass.clone(),
                     rounds_ms: v.clone(),
-                    fastest_ms: v.iter().copied().fold(f64::INFINITY, f64::min),
+                    fastest_ms: fastest(v),
                     same_bits_as_first: same[ci][di],
                 });
             }
@@ -237,7 +242,7 @@ fn markdown(
     same: &[Vec<bool>],
     baseline: Option<&Baseline>,
 ) -> String {
-    let fastest = |ci: usize, di: usize, p: &str| times[ci][di].get(p).map(|r| r.iter().copied().fold(f64::INFINITY, f64::min));
+    let best = |ci: usize, di: usize, p: &str| times[ci][di].get(p).map(|r| fastest(r));
     let mut s = String::new();
     let _ = writeln!(s, "# SSR per-pass times\n");
     let _ = writeln!(s, "Command: `{}`  ", info.command);
@@ -265,45 +270,42 @@ fn markdown(
         }
     }
     passes.push("frame".into());
-    let _ = writeln!(s, "\n| pass | {} |", (1..=configs.len()).map(|i| i.to_string()).collect::<Vec<_>>().join(" | "));
-    let _ = writeln!(s, "| --- |{}", " --- |".repeat(configs.len()));
-    for p in &passes {
-        let cells: Vec<String> = (0..configs.len())
-            .map(|ci| {
-                let v: Vec<Option<f64>> = (0..devices.len()).map(|di| fastest(ci, di, p)).collect();
-                if v.iter().all(Option::is_none) {
-                    "-".into()
-                } else {
-                    v.iter().map(|x| x.map(|m| format!("{m:.1}")).unwrap_or_else(|| "-".into())).collect::<Vec<_>>().join(" / ")
-                }
-            })
-            .collect();
-        let name = if p == "frame" { "**frame**".to_string() } else { p.clone() };
-        let _ = writeln!(s, "| {name} | {} |", cells.join(" | "));
-    }
+    s.push('\n');
+    pass_table(&mut s, configs.len(), &passes, |ci, p| {
+        let v: Vec<Option<f64>> = (0..devices.len()).map(|di| best(ci, di, p)).collect();
+        if v.iter().all(Option::is_none) {
+            "-".into()
+        } else {
+            v.iter().map(|x| x.map(|m| format!("{m:.1}")).unwrap_or_else(|| "-".into())).collect::<Vec<_>>().join(" / ")
+        }
+    });
     let bits: Vec<String> = (0..configs.len())
         .map(|ci| if same[ci].iter().all(|&b| b) { "same".into() } else { "DIFFERENT".to_string() })
         .collect();
     let _ = writeln!(s, "| reflection + specular bits | {} |", bits.join(" | "));
     if let (Some(b), Some(path)) = (baseline, &a.baseline) {
         let _ = writeln!(s, "\nThis run's fastest time over the baseline's (`{}`), same cells:\n", path.display());
-        let _ = writeln!(s, "| pass | {} |", (1..=configs.len()).map(|i| i.to_string()).collect::<Vec<_>>().join(" | "));
-        let _ = writeln!(s, "| --- |{}", " --- |".repeat(configs.len()));
-        for p in &passes {
-            let cells: Vec<String> = (0..configs.len())
-                .map(|ci| {
-                    (0..devices.len())
-                        .map(|di| match (fastest(ci, di, p), b.get(&(configs[ci].label.clone(), devices[di].label.clone(), p.clone()))) {
-                            (Some(now), Some(then)) => format!("{:.2}x", now / then),
-                            _ => "-".into(),
-                        })
-                        .collect::<Vec<_>>()
-                        .join(" / ")
+        pass_table(&mut s, configs.len(), &passes, |ci, p| {
+            (0..devices.len())
+                .map(|di| match (best(ci, di, p), b.get(&(configs[ci].label.clone(), devices[di].label.clone(), p.to_string()))) {
+                    (Some(now), Some(then)) => format!("{:.2}x", now / then),
+                    _ => "-".into(),
                 })
-                .collect();
-            let name = if p == "frame" { "**frame**".to_string() } else { p.clone() };
-            let _ = writeln!(s, "| {name} | {} |", cells.join(" | "));
-        }
+                .collect::<Vec<_>>()
+                .join(" / ")
+        });
     }
     s
+}
+
+/// A table with a row per pass (the frame total in bold) and a column per configuration, each
+/// cell `cell(configuration index, pass)`.
+fn pass_table(s: &mut String, configs: usize, passes: &[String], cell: impl Fn(usize, &str) -> String) {
+    let _ = writeln!(s, "| pass | {} |", (1..=configs).map(|i| i.to_string()).collect::<Vec<_>>().join(" | "));
+    let _ = writeln!(s, "| --- |{}", " --- |".repeat(configs));
+    for p in passes {
+        let cells: Vec<String> = (0..configs).map(|ci| cell(ci, p)).collect();
+        let name = if p == "frame" { "**frame**".to_string() } else { p.clone() };
+        let _ = writeln!(s, "| {name} | {} |", cells.join(" | "));
+    }
 }
