@@ -40,6 +40,41 @@ pub fn store(buf: &mut [f32], i: usize, v: f32) {
     }
 }
 
+/// `[buf[b], buf[b + 1], buf[b + 2]]` with one merging range check for the three (zeros when
+/// `b + 2` is out of range): an RGB texel or a vector in one condition instead of three.
+#[inline(always)]
+pub fn load3(buf: &[f32], b: usize) -> [f32; 3] {
+    if buf.len() >= 3 && b <= buf.len() - 3 {
+        // SAFETY: `b + 2 < buf.len()` was just checked (without overflow), so are `b` and `b + 1`.
+        unsafe { [*buf.get_unchecked(b), *buf.get_unchecked(b + 1), *buf.get_unchecked(b + 2)] }
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// `buf[b..b + 8]` with one merging range check for the eight (zeros when `b + 7` is out of
+/// range): a ray or hit record in one condition instead of eight.
+#[inline(always)]
+pub fn load8(buf: &[f32], b: usize) -> [f32; 8] {
+    if buf.len() >= 8 && b <= buf.len() - 8 {
+        // SAFETY: `b + 7 < buf.len()` was just checked (without overflow), so are `b` to `b + 6`.
+        unsafe {
+            [
+                *buf.get_unchecked(b),
+                *buf.get_unchecked(b + 1),
+                *buf.get_unchecked(b + 2),
+                *buf.get_unchecked(b + 3),
+                *buf.get_unchecked(b + 4),
+                *buf.get_unchecked(b + 5),
+                *buf.get_unchecked(b + 6),
+                *buf.get_unchecked(b + 7),
+            ]
+        }
+    } else {
+        [0.0; 8]
+    }
+}
+
 /// `buf[i]` of a word buffer, or 0 when `i` is out of range (the merging check of [`load`]).
 #[inline(always)]
 pub fn load_u32(buf: &[u32], i: usize) -> u32 {
@@ -63,5 +98,14 @@ mod tests {
         store(&mut b, 2, 7.0);
         store(&mut b, 9, 8.0);
         assert_eq!(b, [1.0, 2.0, 7.0]);
+        assert_eq!(load3(&b, 0), [1.0, 2.0, 7.0]);
+        // One element past the end: the whole triple reads as zeros.
+        assert_eq!(load3(&b, 1), [0.0; 3]);
+        let r = [1.0f32, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
+        assert_eq!(load8(&r, 1), [2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
+        assert_eq!(load8(&r, 2), [0.0; 8]);
+        assert_eq!(load8(&r, usize::MAX - 3), [0.0; 8]);
+        assert_eq!(load8(&r[..7], 0), [0.0; 8]);
+        assert_eq!(load3(&r[..2], 0), [0.0; 3]);
     }
 }

@@ -46,6 +46,7 @@
 //! ```
 
 use crate::ieee;
+use crate::buffer::load;
 use crate::fresnel;
 use crate::masking;
 use crate::rng::{self, Pcg32};
@@ -326,7 +327,7 @@ fn lookup(lut: &[f32], offset: usize, n_x: u32, t: &Taps) -> f32 {
 #[inline]
 #[allow(clippy::too_many_arguments)]
 fn lut_row(lut: &[f32], o: usize, i0: u32, i1: u32, i2: u32, u0: f32, u1: f32, u2: f32) -> f32 {
-    lut[o + i0 as usize] * u0 + lut[o + i1 as usize] * u1 + lut[o + i2 as usize] * u2
+    load(lut, o + i0 as usize) * u0 + load(lut, o + i1 as usize) * u1 + load(lut, o + i2 as usize) * u2
 }
 
 /// (n_mu, n_r, n_avg) of a LUT buffer: its first three words read as `u32` bits. Panics (CPU) if
@@ -377,7 +378,7 @@ pub fn lut_e_avg(lut: &[f32], r: f32) -> f32 {
     let (n_mu, n_r, n_avg) = lut_dims(lut);
     let (j0, j1, j2, w0, w1, w2) = cell_taps(r, n_avg, true, true);
     let off = LUT_HEADER + (2 * n_mu * n_r) as usize;
-    lut[off + j0 as usize] * w0 + lut[off + j1 as usize] * w1 + lut[off + j2 as usize] * w2
+    load(lut, off + j0 as usize) * w0 + load(lut, off + j1 as usize) * w1 + load(lut, off + j2 as usize) * w2
 }
 
 /// Average Schlick reflectance F_avg = 2 int F(mu) mu dmu = lerp(f0, f90, 1/21) (Kulla & Conty

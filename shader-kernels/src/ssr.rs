@@ -11,6 +11,7 @@
 //! buffer (its layout is std140's: 4-byte scalars, then 16-byte-aligned matrices of 16-byte rows),
 //! read into the invocation once by [`params`].
 
+use shader_core::buffer::store;
 use shader_core::ssr::params::SsrParams;
 use shader_core::ssr::hits;
 use shader_core::ssr::resolve::{self, HIT_STRIDE, OUT_STRIDE};
@@ -69,10 +70,10 @@ fn params(id: UVec3, consts: &[SsrParams; 1]) -> SsrParams {
 pub fn classify(p: &SsrParams, gbuf: &[f32], i: u32, tiles: &mut [f32], ob: usize) {
     let tiles_x = (p.width + stochastic::TILE - 1) / stochastic::TILE;
     let (class, rays, eligible, valid) = stochastic::classify_tile(p, gbuf, i % tiles_x, i / tiles_x);
-    tiles[ob] = f32::from_bits(class);
-    tiles[ob + 1] = f32::from_bits(rays);
-    tiles[ob + 2] = f32::from_bits(eligible);
-    tiles[ob + 3] = f32::from_bits(valid);
+    store(tiles, ob, f32::from_bits(class));
+    store(tiles, ob + 1, f32::from_bits(rays));
+    store(tiles, ob + 2, f32::from_bits(eligible));
+    store(tiles, ob + 3, f32::from_bits(valid));
 }
 
 /// List emission, invocation `i` (tile `i`): its rays and eligible pixels into the two lists.
@@ -174,7 +175,7 @@ pub fn sssr_resolve_entry(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: 
 #[allow(clippy::too_many_arguments)]
 pub fn sssr_hit_distance_entry(p: &SsrParams, gbuf: &[f32], rays: &[f32], hits_in: &[f32], pixels: &[f32], k: u32, out: &mut [f32], at_slot: bool) -> u32 {
     let (q, x, y) = stochastic::list_pixel(p, pixels, k);
-    out[dest(q, 1, at_slot)] = stochastic::hit_distance_pixel(p, gbuf, rays, hits_in, x, y);
+    store(out, dest(q, 1, at_slot), stochastic::hit_distance_pixel(p, gbuf, rays, hits_in, x, y));
     q
 }
 

@@ -12,6 +12,7 @@ use super::params::SsrParams;
 use super::resolve::{edge_of_screen_fade, hit_position, load_ray, reproject_hit, HIT_STRIDE};
 use super::stochastic::{fis_rays_in_window, fis_tan_half, ray_pdf_at_hit};
 use super::trace::{load_surface, RAY_STRIDE};
+use crate::buffer::store;
 
 /// Write the hit record of ray slot `slot` (pixel `slot / samples_per_pixel`, in the ray records'
 /// order) at `out[ob..ob + HIT_STRIDE]`; zeros when the slot holds no hitting ray.
@@ -21,7 +22,7 @@ pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], rays: &[f32], slot: u32, out
     if !(r.valid && r.hit) {
         let mut k = 0;
         while k < HIT_STRIDE {
-            out[ob + k] = 0.0;
+            store(out, ob + k, 0.0);
             k += 1;
         }
         return;
@@ -30,12 +31,12 @@ pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], rays: &[f32], slot: u32, out
     let sq = load_surface(p, gbuf, q % p.width, q / p.width);
     let hp = hit_position(p, gbuf, r.hx, r.hy);
     let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
-    out[ob] = hp.x;
-    out[ob + 1] = hp.y;
-    out[ob + 2] = hp.z;
-    out[ob + 3] = ray_pdf_at_hit(p, &sq, hp, r.pdf);
-    out[ob + 4] = u;
-    out[ob + 5] = v;
-    out[ob + 6] = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
-    out[ob + 7] = fis_tan_half(r.pdf, fis_rays_in_window(p));
+    store(out, ob, hp.x);
+    store(out, ob + 1, hp.y);
+    store(out, ob + 2, hp.z);
+    store(out, ob + 3, ray_pdf_at_hit(p, &sq, hp, r.pdf));
+    store(out, ob + 4, u);
+    store(out, ob + 5, v);
+    store(out, ob + 6, edge_of_screen_fade(u, v, p.edge_fade_rcp_length));
+    store(out, ob + 7, fis_tan_half(r.pdf, fis_rays_in_window(p)));
 }

@@ -18,6 +18,7 @@ use crate::ieee;
 use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams};
 use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_STRIDE};
 use super::trace::info;
+use crate::buffer::{load, load3, load8};
 use crate::masking;
 use crate::vector::Vec3;
 use spirv_std::num_traits::Float;
@@ -111,8 +112,8 @@ fn clamp_i(x: i32, hi: u32) -> u32 {
 #[inline]
 fn texel(p: &SsrParams, pyr: &[f32], off: u32, w: u32, x: u32, y: u32) -> Vec3 {
     let _ = p;
-    let b = ((off + y * w + x) as usize) * COLOR_STRIDE;
-    Vec3::new(pyr[b], pyr[b + 1], pyr[b + 2])
+    let [r, g, b] = load3(pyr, ((off + y * w + x) as usize) * COLOR_STRIDE);
+    Vec3::new(r, g, b)
 }
 
 /// Bilinear sample of colour pyramid level `level` at (u, v) in [0, 1] (clamped), clamp-to-edge.
@@ -199,9 +200,9 @@ impl MipBlock<Vec3> {
 #[inline]
 fn store_rgb(pyr: &mut [f32], texel: u32, c: Vec3) {
     let b = (texel as usize) * COLOR_STRIDE;
-    pyr[b] = c.x;
-    pyr[b + 1] = c.y;
-    pyr[b + 2] = c.z;
+    crate::buffer::store(pyr, b, c.x);
+    crate::buffer::store(pyr, b + 1, c.y);
+    crate::buffer::store(pyr, b + 2, c.z);
 }
 
 /// A pass of the colour pyramid, invocation `k`: mips `level` and `level + 1` in one step
@@ -241,18 +242,12 @@ pub struct RayRecord {
     pub dir: Vec3,
 }
 
-/// Decode the ray record at `rays[b..]`.
+/// Decode the ray record at `rays[b..]` (all zeros, an invalid ray, if it lies past the end).
 #[inline]
 pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
-    let bits = rays[b + 3].to_bits();
-    RayRecord {
-        valid: bits & info::VALID != 0,
-        hit: bits & info::HIT != 0,
-        hx: rays[b],
-        hy: rays[b + 1],
-        pdf: rays[b + 4],
-        dir: Vec3::new(rays[b + 5], rays[b + 6], rays[b + 7]),
-    }
+    let [hx, hy, _, info_bits, pdf, dx, dy, dz] = load8(rays, b);
+    let bits = info_bits.to_bits();
+    RayRecord { valid: bits & info::VALID != 0, hit: bits & info::HIT != 0, hx, hy, pdf, dir: Vec3::new(dx, dy, dz) }
 }
 
 /// Floats per hit record (written by [`super::hits`], one per ray slot, in the ray records'
@@ -281,17 +276,11 @@ pub struct HitRecord {
     pub tan_half: f32,
 }
 
-/// Decode the hit record at `hits[b..]`.
+/// Decode the hit record at `hits[b..]` (all zeros if it lies past the end).
 #[inline]
 pub fn load_hit(hits: &[f32], b: usize) -> HitRecord {
-    HitRecord {
-        pos: Vec3::new(hits[b], hits[b + 1], hits[b + 2]),
-        pdf: hits[b + 3],
-        u: hits[b + 4],
-        v: hits[b + 5],
-        fade: hits[b + 6],
-        tan_half: hits[b + 7],
-    }
+    let [x, y, z, pdf, u, v, fade, tan_half] = load8(hits, b);
+    HitRecord { pos: Vec3::new(x, y, z), pdf, u, v, fade, tan_half }
 }
 
 /// The hit pixel's previous-frame UV (its UV minus the motion vector stored at the hit pixel).
@@ -300,8 +289,8 @@ pub fn reproject_hit(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> (f32, f32
     let x = hx as u32;
     let y = hy as u32;
     let b = ((y * p.width + x) as usize) * GBUF_STRIDE;
-    let u = ieee::div(hx, p.width as f32) - gbuf[b + 6];
-    let v = ieee::div(hy, p.height as f32) - gbuf[b + 7];
+    let u = ieee::div(hx, p.width as f32) - load(gbuf, b + 6);
+    let v = ieee::div(hy, p.height as f32) - load(gbuf, b + 7);
     (u, v)
 }
 
@@ -310,16 +299,16 @@ pub fn reproject_hit(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> (f32, f32
 pub fn hit_position(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> Vec3 {
     let x = hx as u32;
     let y = hy as u32;
-    let z = gbuf[((y * p.width + x) as usize) * GBUF_STRIDE];
+    let z = load(gbuf, ((y * p.width + x) as usize) * GBUF_STRIDE);
     view_position(p, hx, hy, z)
 }
 
 #[inline]
 pub(crate) fn store(out: &mut [f32], ob: usize, c: Vec3, a: f32) {
-    out[ob] = c.x;
-    out[ob + 1] = c.y;
-    out[ob + 2] = c.z;
-    out[ob + 3] = a;
+    crate::buffer::store(out, ob, c.x);
+    crate::buffer::store(out, ob + 1, c.y);
+    crate::buffer::store(out, ob + 2, c.z);
+    crate::buffer::store(out, ob + 3, a);
 }
 
 /// A weighted neighbourhood resolve's output: (sum of weighted colour, of weighted opacity) over
@@ -351,7 +340,7 @@ pub fn hdrp_reproject_approx(
 ) {
     let i = (y * p.width + x) as usize;
     let r = load_ray(rays, i * RAY_STRIDE);
-    let rough = gbuf[i * GBUF_STRIDE + 4];
+    let rough = load(gbuf, i * GBUF_STRIDE + 4);
     if !(r.valid && r.hit) {
         store(out, ob, Vec3::ZERO, 0.0);
         return;

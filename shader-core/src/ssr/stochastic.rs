@@ -230,11 +230,11 @@ pub fn dispatch_record(rays: u32, workgroup: u32) -> [u32; DISPATCH_WORDS] {
 pub fn emit_tile(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets: &[f32], tx: u32, ty: u32, list: &mut [f32], pixels: &mut [f32]) {
     let tiles_x = (p.width + TILE - 1) / TILE;
     let t = (ty * tiles_x + tx) as usize;
-    let mut k = ray_offsets[t].to_bits();
-    let mut kp = pixel_offsets[t].to_bits();
+    let mut k = load(ray_offsets, t).to_bits();
+    let mut kp = load(pixel_offsets, t).to_bits();
     // A tile with nothing to emit (its offsets equal the next tile's) skips its 64 surfaces; on a
     // device that runs 8 tiles in lockstep the loop is skipped when all 8 are empty.
-    if ray_offsets[t + 1].to_bits() == k && pixel_offsets[t + 1].to_bits() == kp {
+    if load(ray_offsets, t + 1).to_bits() == k && load(pixel_offsets, t + 1).to_bits() == kp {
         return;
     }
     let mut j = 0;
@@ -246,14 +246,14 @@ pub fn emit_tile(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets
             if x < p.width && y < p.height {
                 let s = load_surface(p, gbuf, x, y);
                 if eligible(p, &s) {
-                    pixels[kp as usize] = f32::from_bits(y * p.width + x);
+                    store(pixels, kp as usize, f32::from_bits(y * p.width + x));
                     kp += 1;
                     if traces(p, x, y, s.perceptual_roughness) {
                         let mode = trace_mode_for(p, s.perceptual_roughness);
                         let mut smp = 0;
                         while smp < p.samples_per_pixel {
-                            list[(k as usize) * LIST_STRIDE] = f32::from_bits(y * p.width + x);
-                            list[(k as usize) * LIST_STRIDE + 1] = f32::from_bits(smp | (mode << 8));
+                            store(list, (k as usize) * LIST_STRIDE, f32::from_bits(y * p.width + x));
+                            store(list, (k as usize) * LIST_STRIDE + 1, f32::from_bits(smp | (mode << 8)));
                             k += 1;
                             smp += 1;
                         }
@@ -272,9 +272,9 @@ pub fn emit_tile(p: &SsrParams, gbuf: &[f32], ray_offsets: &[f32], pixel_offsets
 pub fn emit_valid_tile(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty: u32, pixels: &mut [f32]) {
     let tiles_x = (p.width + TILE - 1) / TILE;
     let t = (ty * tiles_x + tx) as usize;
-    let mut k = offsets[t].to_bits();
+    let mut k = load(offsets, t).to_bits();
     // An empty tile skips its 64 surfaces (see [`emit_tile`]).
-    if offsets[t + 1].to_bits() == k {
+    if load(offsets, t + 1).to_bits() == k {
         return;
     }
     let mut j = 0;
@@ -284,7 +284,7 @@ pub fn emit_valid_tile(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty
         while i < TILE {
             let x = tx * TILE + i;
             if x < p.width && y < p.height && load_surface(p, gbuf, x, y).valid {
-                pixels[k as usize] = f32::from_bits(y * p.width + x);
+                store(pixels, k as usize, f32::from_bits(y * p.width + x));
                 k += 1;
             }
             i += 1;
@@ -296,15 +296,15 @@ pub fn emit_valid_tile(p: &SsrParams, gbuf: &[f32], offsets: &[f32], tx: u32, ty
 /// The ray slot (pixel * samples per pixel + sample, the ray records' order) of ray-list entry `k`.
 #[inline]
 pub fn list_slot(p: &SsrParams, list: &[f32], k: u32) -> u32 {
-    let pixel = list[(k as usize) * LIST_STRIDE].to_bits();
-    let smp = list[(k as usize) * LIST_STRIDE + 1].to_bits() & 0xff;
+    let pixel = load(list, (k as usize) * LIST_STRIDE).to_bits();
+    let smp = load(list, (k as usize) * LIST_STRIDE + 1).to_bits() & 0xff;
     pixel * p.samples_per_pixel + smp
 }
 
 /// Pixel-list entry `k`: (pixel index, x, y).
 #[inline]
 pub fn list_pixel(p: &SsrParams, pixels: &[f32], k: u32) -> (u32, u32, u32) {
-    let q = pixels[k as usize].to_bits();
+    let q = load(pixels, k as usize).to_bits();
     (q, q % p.width, q / p.width)
 }
 
@@ -396,8 +396,8 @@ pub fn sample_ray(p: &SsrParams, s: &Surface, x: u32, y: u32, smp: u32) -> (Vec3
 /// Trace ray-list entry `k` (pixel, sample, mode) and store its record at
 /// `out[ob..ob + RAY_STRIDE]`.
 pub fn trace_list_entry(p: &SsrParams, gbuf: &[f32], pyr: &[f32], list: &[f32], k: u32, out: &mut [f32], ob: usize) {
-    let pixel = list[(k as usize) * LIST_STRIDE].to_bits();
-    let word = list[(k as usize) * LIST_STRIDE + 1].to_bits();
+    let pixel = load(list, (k as usize) * LIST_STRIDE).to_bits();
+    let word = load(list, (k as usize) * LIST_STRIDE + 1).to_bits();
     let smp = word & 0xff;
     let mode = word >> 8;
     let (x, y) = (pixel % p.width, pixel / p.width);

@@ -28,6 +28,7 @@
 //! assert_eq!((floor_index(3.7, 10), floor_index(-1.0, 10), floor_index(f32::NAN, 10), floor_index(99.0, 10)), (3, 0, 0, 10));
 //! ```
 
+use crate::buffer::{load, store};
 use crate::ieee;
 use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_BACKFACE_REJECT, FLAG_STOCHASTIC};
 use crate::vector::Vec3;
@@ -222,7 +223,7 @@ pub fn screen_ray(p: &SsrParams, s: &Surface, r: Vec3) -> (Vec3, Vec3) {
 pub fn pyramid_depth(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32) -> f32 {
     let w = mip_size(p.width, level);
     let base = p_mip_offset(p, level);
-    pyr[(base + cy * w + cx) as usize]
+    load(pyr, (base + cy * w + cx) as usize)
 }
 
 /// Half-width, in pixels, of the square around a pixel centre over which a G-buffer's far depth
@@ -248,7 +249,7 @@ pub const FAR_DEPTH_GRID: u32 = 5;
 #[inline]
 pub fn slab_base(p: &SsrParams, pyr: &[f32], level: u32, cx: u32, cy: u32, floor_d: f32) -> f32 {
     if level == 0 && p.far_depth_offset != 0 {
-        let far_d = pyr[(p.far_depth_offset + cy * p.width + cx) as usize];
+        let far_d = load(pyr, (p.far_depth_offset + cy * p.width + cx) as usize);
         minf(far_d, floor_d * p.min_thickness_scale)
     } else {
         floor_d * p.thickness_scale + p.thickness_bias
@@ -331,7 +332,7 @@ pub fn trace_hiz(p: &SsrParams, pyr: &[f32], o: Vec3, dir: Vec3, max_mip: u32, m
         let cy = floor_index(pos.y, p.height - 1) >> mip;
         let cx = if cx < w { cx } else { w - 1 };
         let cy = if cy < h { cy } else { h - 1 };
-        let floor_d = pyr[(base + cy * w + cx) as usize];
+        let floor_d = load(pyr, (base + cy * w + cx) as usize);
         let base_d = slab_base(p, pyr, mip, cx, cy, floor_d);
         let wall_x = ((cx + step_x) << mip) as f32;
         let wall_y = ((cy + step_y) << mip) as f32;
@@ -484,7 +485,7 @@ pub fn validate_hit(p: &SsrParams, gbuf: &[f32], ox: u32, oy: u32, r: Vec3, h: &
     }
     if p.flags & FLAG_BACKFACE_REJECT != 0 {
         let b = ((h.y * p.width + h.x) as usize) * GBUF_STRIDE;
-        let n = p.view.transform_dir(Vec3::new(gbuf[b + 1], gbuf[b + 2], gbuf[b + 3]));
+        let n = p.view.transform_dir(Vec3::new(load(gbuf, b + 1), load(gbuf, b + 2), load(gbuf, b + 3)));
         if n.dot(r) >= 0.0 {
             return (false, true);
         }
@@ -525,27 +526,27 @@ pub fn trace_and_store(
     if rejected {
         bits |= info::REJECTED;
     }
-    out[ob] = if hit { h.x as f32 + 0.5 } else { -1.0 };
-    out[ob + 1] = if hit { h.y as f32 + 0.5 } else { -1.0 };
-    out[ob + 2] = if hit { h.d } else { 0.0 };
-    out[ob + 3] = f32::from_bits(bits);
-    out[ob + 4] = pdf;
-    out[ob + 5] = r.x;
-    out[ob + 6] = r.y;
-    out[ob + 7] = r.z;
+    store(out, ob, if hit { h.x as f32 + 0.5 } else { -1.0 });
+    store(out, ob + 1, if hit { h.y as f32 + 0.5 } else { -1.0 });
+    store(out, ob + 2, if hit { h.d } else { 0.0 });
+    store(out, ob + 3, f32::from_bits(bits));
+    store(out, ob + 4, pdf);
+    store(out, ob + 5, r.x);
+    store(out, ob + 6, r.y);
+    store(out, ob + 7, r.z);
 }
 
 /// Write an empty ray record (no ray traced for this pixel).
 #[inline]
 pub fn store_no_ray(out: &mut [f32], ob: usize) {
-    out[ob] = -1.0;
-    out[ob + 1] = -1.0;
-    out[ob + 2] = 0.0;
-    out[ob + 3] = f32::from_bits(0);
-    out[ob + 4] = 0.0;
-    out[ob + 5] = 0.0;
-    out[ob + 6] = 0.0;
-    out[ob + 7] = 0.0;
+    store(out, ob, -1.0);
+    store(out, ob + 1, -1.0);
+    store(out, ob + 2, 0.0);
+    store(out, ob + 3, f32::from_bits(0));
+    store(out, ob + 4, 0.0);
+    store(out, ob + 5, 0.0);
+    store(out, ob + 6, 0.0);
+    store(out, ob + 7, 0.0);
 }
 
 /// HDRP tracing pass for pixel (x, y): the mirror reflection ray, or with `FLAG_STOCHASTIC` (HDRP's
@@ -578,10 +579,10 @@ pub fn hiz_downsample_texel(p: &SsrParams, pyr: &[f32], level: u32, x: u32, y: u
 fn hiz_children_max(pyr: &[f32], base: u32, pw: u32, ph: u32, x: u32, y: u32) -> f32 {
     let (x0, x1) = mip_children(x, pw);
     let (y0, y1) = mip_children(y, ph);
-    let a = pyr[(base + y0 * pw + x0) as usize];
-    let b = pyr[(base + y0 * pw + x1) as usize];
-    let c = pyr[(base + y1 * pw + x0) as usize];
-    let d = pyr[(base + y1 * pw + x1) as usize];
+    let a = load(pyr, (base + y0 * pw + x0) as usize);
+    let b = load(pyr, (base + y0 * pw + x1) as usize);
+    let c = load(pyr, (base + y1 * pw + x0) as usize);
+    let d = load(pyr, (base + y1 * pw + x1) as usize);
     hiz_max(a, b, c, d)
 }
 
@@ -596,12 +597,12 @@ impl MipBlock<f32> {
     /// Write the block into the pyramid buffer (one value per texel).
     #[inline]
     pub fn store(&self, pyr: &mut [f32]) {
-        pyr[self.texels[0] as usize] = self.values[0];
-        pyr[self.texels[1] as usize] = self.values[1];
-        pyr[self.texels[2] as usize] = self.values[2];
-        pyr[self.texels[3] as usize] = self.values[3];
+        store(pyr, self.texels[0] as usize, self.values[0]);
+        store(pyr, self.texels[1] as usize, self.values[1]);
+        store(pyr, self.texels[2] as usize, self.values[2]);
+        store(pyr, self.texels[3] as usize, self.values[3]);
         if let Some((j, v)) = self.above {
-            pyr[j as usize] = v;
+            store(pyr, j as usize, v);
         }
     }
 }
@@ -624,10 +625,10 @@ pub fn hiz_block(p: &SsrParams, pyr: &[f32], level: u32, k: u32) -> MipBlock<f32
     let (texels, xy) = mip_block_texels(w, h, base, b);
     let values = if level == 0 {
         [
-            device_depth(p, pyr[texels[0] as usize]),
-            device_depth(p, pyr[texels[1] as usize]),
-            device_depth(p, pyr[texels[2] as usize]),
-            device_depth(p, pyr[texels[3] as usize]),
+            device_depth(p, load(pyr, texels[0] as usize)),
+            device_depth(p, load(pyr, texels[1] as usize)),
+            device_depth(p, load(pyr, texels[2] as usize)),
+            device_depth(p, load(pyr, texels[3] as usize)),
         ]
     } else {
         let (below, pw, ph) = (p_mip_offset(p, level - 1), mip_size(p.width, level - 1), mip_size(p.height, level - 1));
