@@ -40,40 +40,40 @@ pub fn store(buf: &mut [f32], i: usize, v: f32) {
     }
 }
 
-/// `[buf[b], buf[b + 1], buf[b + 2]]` with one merging range check for the three (zeros when
-/// `b + 2` is out of range): an RGB texel or a vector in one condition instead of three.
-#[inline(always)]
-pub fn load3(buf: &[f32], b: usize) -> [f32; 3] {
-    if buf.len() >= 3 && b <= buf.len() - 3 {
-        // SAFETY: `b + 2 < buf.len()` was just checked (without overflow), so are `b` and `b + 1`.
-        unsafe { [*buf.get_unchecked(b), *buf.get_unchecked(b + 1), *buf.get_unchecked(b + 2)] }
-    } else {
-        [0.0; 3]
-    }
+/// `buf[b..b + N]` as an array, with one merging range check for the N values (all zeros when
+/// `b + N - 1` is out of range): a vector, texel or record in one condition instead of N.
+macro_rules! load_n {
+    ($(#[$doc:meta])* $name:ident, $n:literal, [$($k:literal),*]) => {
+        $(#[$doc])*
+        #[inline(always)]
+        pub fn $name(buf: &[f32], b: usize) -> [f32; $n] {
+            if buf.len() >= $n && b <= buf.len() - $n {
+                // SAFETY: `b + N - 1 < buf.len()` was just checked (without overflow).
+                unsafe { [$(*buf.get_unchecked(b + $k)),*] }
+            } else {
+                [0.0; $n]
+            }
+        }
+    };
 }
 
-/// `buf[b..b + 8]` with one merging range check for the eight (zeros when `b + 7` is out of
-/// range): a ray or hit record in one condition instead of eight.
-#[inline(always)]
-pub fn load8(buf: &[f32], b: usize) -> [f32; 8] {
-    if buf.len() >= 8 && b <= buf.len() - 8 {
-        // SAFETY: `b + 7 < buf.len()` was just checked (without overflow), so are `b` to `b + 6`.
-        unsafe {
-            [
-                *buf.get_unchecked(b),
-                *buf.get_unchecked(b + 1),
-                *buf.get_unchecked(b + 2),
-                *buf.get_unchecked(b + 3),
-                *buf.get_unchecked(b + 4),
-                *buf.get_unchecked(b + 5),
-                *buf.get_unchecked(b + 6),
-                *buf.get_unchecked(b + 7),
-            ]
-        }
-    } else {
-        [0.0; 8]
-    }
-}
+load_n!(
+    /// `[buf[b], buf[b + 1]]`, one merging range check (zeros past the end).
+    load2, 2, [0, 1]
+);
+load_n!(
+    /// `[buf[b], buf[b + 1], buf[b + 2]]`, one merging range check (zeros past the end): an RGB
+    /// texel or a vector.
+    load3, 3, [0, 1, 2]
+);
+load_n!(
+    /// `buf[b..b + 4]`, one merging range check (zeros past the end).
+    load4, 4, [0, 1, 2, 3]
+);
+load_n!(
+    /// `buf[b..b + 8]`, one merging range check (zeros past the end): a ray record.
+    load8, 8, [0, 1, 2, 3, 4, 5, 6, 7]
+);
 
 /// `buf[i]` of a word buffer, or 0 when `i` is out of range (the merging check of [`load`]).
 #[inline(always)]
@@ -107,5 +107,9 @@ mod tests {
         assert_eq!(load8(&r, usize::MAX - 3), [0.0; 8]);
         assert_eq!(load8(&r[..7], 0), [0.0; 8]);
         assert_eq!(load3(&r[..2], 0), [0.0; 3]);
+        assert_eq!(load2(&r, 7), [8.0, 9.0]);
+        assert_eq!(load2(&r, 8), [0.0; 2]);
+        assert_eq!(load4(&r, 5), [6.0, 7.0, 8.0, 9.0]);
+        assert_eq!(load4(&r, 6), [0.0; 4]);
     }
 }

@@ -115,9 +115,10 @@ pub fn hdrp_trace(p: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], pixels: &[f32]
 /// HDRP's hit records, invocation `k` (entry `k` of the valid-pixel list; one ray per pixel):
 /// the record of the pixel's ray (see [`dest`]); returns its slot.
 #[inline]
-pub fn hdrp_hits(p: &SsrParams, gbuf: &[f32], rays: &[f32], pixels: &[f32], k: u32, hits_out: &mut [f32], at_slot: bool) -> u32 {
+#[allow(clippy::too_many_arguments)]
+pub fn hdrp_hits(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], pixels: &[f32], k: u32, hits_out: &mut [f32], at_slot: bool) -> u32 {
     let (q, _, _) = stochastic::list_pixel(p, pixels, k);
-    hits::hit_record_slot(p, gbuf, rays, q, hits_out, dest(q, HIT_STRIDE, at_slot));
+    hits::hit_record_slot(p, gbuf, color_pyr, rays, q, hits_out, dest(q, HIT_STRIDE, at_slot));
     q
 }
 
@@ -153,9 +154,10 @@ pub fn sssr_trace_entry(p: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], list: &[
 /// Stochastic hit records, invocation `k` (entry `k` of the ray list): the ray's hit record (see
 /// [`dest`]); returns its slot.
 #[inline]
-pub fn sssr_hits_entry(p: &SsrParams, gbuf: &[f32], rays: &[f32], list: &[f32], k: u32, hits_out: &mut [f32], at_slot: bool) -> u32 {
+#[allow(clippy::too_many_arguments)]
+pub fn sssr_hits_entry(p: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], list: &[f32], k: u32, hits_out: &mut [f32], at_slot: bool) -> u32 {
     let slot = stochastic::list_slot(p, list, k);
-    hits::hit_record_slot(p, gbuf, rays, slot, hits_out, dest(slot, HIT_STRIDE, at_slot));
+    hits::hit_record_slot(p, gbuf, color_pyr, rays, slot, hits_out, dest(slot, HIT_STRIDE, at_slot));
     slot
 }
 
@@ -264,12 +266,13 @@ pub fn ssr_ray_hits(
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
 ) {
     let Some((i, _)) = pass(id, args) else { return };
     let p = params(id, consts);
-    hits::hit_record_slot(&p, gbuf, rays, i, hits, (i as usize) * HIT_STRIDE);
+    hits::hit_record_slot(&p, gbuf, color_pyr, rays, i, hits, (i as usize) * HIT_STRIDE);
 }
 
 /// HDRP's hit records over the valid-pixel list (one ray per pixel: the slot is the pixel);
@@ -280,13 +283,14 @@ pub fn ssr_hdrp_hits(
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] pixels: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] hits: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
-    hdrp_hits(&p, gbuf, rays, pixels, k, hits, true);
+    hdrp_hits(&p, gbuf, color_pyr, rays, pixels, k, hits, true);
 }
 
 /// HDRP reprojection, `SSR_APPROX`, over the valid-pixel list: the pixel's own ray only (`out`
@@ -390,13 +394,14 @@ pub fn sssr_hits(
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] list: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] hits: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
     let p = params(id, consts);
-    sssr_hits_entry(&p, gbuf, rays, list, k, hits, true);
+    sssr_hits_entry(&p, gbuf, color_pyr, rays, list, k, hits, true);
 }
 
 /// Stochastic SSR, BRDF-weighted ratio-estimator resolve over the compacted list of eligible

@@ -43,10 +43,10 @@ pub fn sssr_passes_bit_equal(tag: &str, c: &mut Runner, q: &mut Runner, consts: 
     assert_eq!(pixels.len(), pixel_off[pixel_off.len() - 1].to_bits() as usize, "{tag}: pixel list length");
     let rays = c.sssr_trace(consts, gbuf, dp, &list).unwrap();
     assert_bits_equal(&format!("{tag} trace"), RAY_STRIDE, &rays, &q.sssr_trace(consts, gbuf, dp, &list).unwrap());
-    let hits = c.sssr_hits(consts, gbuf, &rays, &list).unwrap();
-    assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hits, &q.sssr_hits(consts, gbuf, &rays, &list).unwrap());
+    let hits = c.sssr_hits(consts, gbuf, cp, &rays, &list).unwrap();
+    assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hits, &q.sssr_hits(consts, gbuf, cp, &rays, &list).unwrap());
     // Over the list or over every slot: the same records (slots without a ray are zero in both).
-    assert_bits_equal(&format!("{tag} hit records, list = every slot"), HIT_STRIDE, &hits, &c.ray_hits(consts, gbuf, &rays).unwrap());
+    assert_bits_equal(&format!("{tag} hit records, list = every slot"), HIT_STRIDE, &hits, &c.ray_hits(consts, gbuf, cp, &rays).unwrap());
     let reflection = c.sssr_resolve(consts, gbuf, cp, &rays, &hits, &pixels).unwrap();
     assert_bits_equal(&format!("{tag} resolve"), 4, &reflection, &q.sssr_resolve(consts, gbuf, cp, &rays, &hits, &pixels).unwrap());
     let hit_distance = c.sssr_hit_distance(consts, gbuf, &rays, &hits, &pixels).unwrap();

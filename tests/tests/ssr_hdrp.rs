@@ -62,8 +62,8 @@ fn hdrp_passes_match_gpu_bit_for_bit() {
                 let expect = if listed { want } else { &no_ray[..] };
                 assert!(got.iter().zip(expect).all(|(a, b)| a.to_bits() == b.to_bits()), "{tag}: pixel {i}: list trace {got:?}, per-pixel {want:?}");
             }
-            let hc = c.ray_hits(&consts, &gbuf, &rc).unwrap();
-            assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hc, &q.ray_hits(&consts, &gbuf, &rc).unwrap());
+            let hc = c.ray_hits(&consts, &gbuf, &cp, &rc).unwrap();
+            assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hc, &q.ray_hits(&consts, &gbuf, &cp, &rc).unwrap());
             for m in [HdrpResolve::Approx, HdrpResolve::Block3x3, HdrpResolve::Cross5] {
                 let oc = c.hdrp_reproject(&consts, &gbuf, &cp, &rc, &pixels, m).unwrap();
                 let og = q.hdrp_reproject(&consts, &gbuf, &cp, &rc, &pixels, m).unwrap();

@@ -18,6 +18,7 @@ use shader_core::ssr::resolve::{
 use shader_core::ssr::stochastic::{eligible, ray_pdf_at_hit, ray_weight, MIRROR_ROUGHNESS};
 use shader_core::ssr::trace::{load_surface, RAY_STRIDE};
 use shader_core::vector::Vec3;
+use std::cell::Cell;
 
 const W: usize = 96;
 const H: usize = 72;
@@ -60,8 +61,10 @@ fn hit_distance_per_ray(p: &SsrParams, gbuf: &[f32], rays: &[f32], x: u32, y: u3
     if acc_w > 0.0 { ieee::div(acc_d, acc_w) } else { 0.0 }
 }
 
-/// The stochastic resolve of pixel (x, y) with every per-ray quantity evaluated per pair.
-fn sssr_pixel_per_pair(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x: u32, y: u32) -> [f32; 4] {
+/// The stochastic resolve of pixel (x, y) with every per-ray quantity evaluated per pair;
+/// `mips` counts the gathered hitting rays sampled at mip 0 and above it (the two ways
+/// `resolve::hit_color` takes).
+fn sssr_pixel_per_pair(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], x: u32, y: u32, mips: &Cell<[usize; 2]>) -> [f32; 4] {
     let s = load_surface(p, gbuf, x, y);
     if !eligible(p, &s) {
         return [0.0; 4];
@@ -108,6 +111,9 @@ fn sssr_pixel_per_pair(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32],
                     }
                     acc = acc + sample_color(p, color, u, v, mip) * (a * w);
                     acc_a += a * w;
+                    let mut m = mips.get();
+                    m[(mip > 0.0) as usize] += 1;
+                    mips.set(m);
                 }
                 acc_w += w;
             }
@@ -180,8 +186,16 @@ fn neighbourhood_resolves_equal_their_per_pair_form_to_the_bit() {
         let p = consts;
         let mut c = Runner::new(&Backend::Cpu);
         let f = c.sssr_frame_passes(&consts, &gbuf, &g.depth_layers(), &g.color).unwrap();
-        let lit = assert_same(&tag, &f.reflection, |x, y| sssr_pixel_per_pair(&p, &gbuf, &f.color_pyramid, &f.rays, x, y));
+        let mips = Cell::new([0usize; 2]);
+        let lit = assert_same(&tag, &f.reflection, |x, y| sssr_pixel_per_pair(&p, &gbuf, &f.color_pyramid, &f.rays, x, y, &mips));
         assert!(lit > W * H / 10, "{tag}: only {lit} pixels reflect anything: the comparison would prove little");
+        // Every way a colour is gathered is compared: without filtered importance sampling the
+        // hit record's mip-0 colour, with it the lookup at mip 0 and the trilinear one above it.
+        let [at_0, above_0] = mips.get();
+        assert!(at_0 > 1000, "{tag}: only {at_0} rays gathered at mip 0");
+        if t.fis && t.reuse {
+            assert!(above_0 > 1000, "{tag}: only {above_0} rays gathered above mip 0");
+        }
         // The hit distance (over the pixel list, from the hit records) against its per-ray form.
         let hd = c.sssr_hit_distance(&consts, &gbuf, &f.rays, &f.hits, &f.pixels).unwrap();
         let mut hit = 0;

@@ -308,6 +308,13 @@ pub(crate) fn ensure_slot_records(p: &SsrParams, what: &str, v: &[f32], stride: 
     Ok(())
 }
 
+/// Fail unless `v` is a colour pyramid of the frame (RGB texels of every mip).
+pub(crate) fn ensure_color_pyramid(p: &SsrParams, v: &[f32]) -> Result<()> {
+    let want = pyramid_texels(p.width, p.height) * COLOR_STRIDE;
+    anyhow::ensure!(v.len() == want, "colour pyramid has {} values, expected {want} ({}x{} RGB and its mips)", v.len(), p.width, p.height);
+    Ok(())
+}
+
 /// One pass's time.
 #[derive(Clone, Debug)]
 pub struct PassTime {
@@ -500,18 +507,19 @@ impl<'a> Runner<'a> {
 
     /// Hit records of every ray slot (`HIT_STRIDE` floats per slot, pixels x samples per pixel,
     /// in the ray records' order; `shader_core::ssr::hits`): what the neighbourhood resolves
-    /// need of each hitting ray, computed once per ray.
-    pub fn ray_hits(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
+    /// need of each hitting ray (colours from the colour pyramid `color_pyr`), computed once per ray.
+    pub fn ray_hits(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let slots = ray_slots(&p);
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
+        ensure_color_pyramid(&p, color_pyr)?;
         match self.backend {
             Backend::Cpu => Ok(self.cpu_timed("hits", || {
                 let mut out = vec![0.0f32; slots * HIT_STRIDE];
-                out.par_chunks_mut(HIT_STRIDE).enumerate().for_each(|(i, o)| hits::hit_record_slot(&p, gbuf, rays, i as u32, o, 0));
+                out.par_chunks_mut(HIT_STRIDE).enumerate().for_each(|(i, o)| hits::hit_record_slot(&p, gbuf, color_pyr, rays, i as u32, o, 0));
                 out
             })),
-            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_ray_hits", slots as u32, &[], consts, &[gbuf, rays], slots * HIT_STRIDE, None),
+            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_ray_hits", slots as u32, &[], consts, &[gbuf, color_pyr, rays], slots * HIT_STRIDE, None),
         }
     }
 
@@ -525,14 +533,15 @@ impl<'a> Runner<'a> {
         let n = (p.width * p.height) as usize;
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
         ensure_hdrp_pixels(&p, pixels)?;
+        ensure_color_pyramid(&p, color_pyr)?;
         let count = pixels.len();
         let Some(shape) = mode.shape() else {
             return self.list_pass::<OUT_STRIDE>("resolve", "ssr::ssr_hdrp_reproject", count, n, &[], consts, &[gbuf, color_pyr, rays, pixels], |k, o| {
                 kern::hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, o, false)
             });
         };
-        let hits = self.list_pass::<HIT_STRIDE>("hits", "ssr::ssr_hdrp_hits", count, n, &[], consts, &[gbuf, rays, pixels], |k, o| {
-            kern::hdrp_hits(&p, gbuf, rays, pixels, k, o, false)
+        let hits = self.list_pass::<HIT_STRIDE>("hits", "ssr::ssr_hdrp_hits", count, n, &[], consts, &[gbuf, color_pyr, rays, pixels], |k, o| {
+            kern::hdrp_hits(&p, gbuf, color_pyr, rays, pixels, k, o, false)
         })?;
         let hits = &hits[..];
         self.list_pass::<OUT_STRIDE>("resolve", "ssr::ssr_hdrp_resolve", count, n, &[shape], consts, &[gbuf, color_pyr, rays, hits, pixels], |k, o| {

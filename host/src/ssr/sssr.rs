@@ -4,7 +4,7 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
-use super::pipeline::{build_params, color_pyramid_passes, depth_pyramid_init, depth_pyramid_passes, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
+use super::pipeline::{build_params, color_pyramid_passes, depth_pyramid_init, depth_pyramid_passes, ensure_color_pyramid, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
 use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
@@ -287,7 +287,7 @@ impl Runner<'_> {
         names.push("trace");
         passes.push(ChainPass {
             entry: "ssr::sssr_hits",
-            reads: vec![ray_dispatch_b, consts_b, gbuf_b, rays_b, list_b],
+            reads: vec![ray_dispatch_b, consts_b, gbuf_b, color_b, rays_b, list_b],
             writes: vec![hits_b],
             dispatch: indirect(ray_dispatch_b),
         });
@@ -341,7 +341,7 @@ impl Runner<'_> {
         let pixel_offsets = self.sssr_prefix(&tiles, stochastic::TILE_ELIGIBLE)?;
         let (list, pixels) = self.sssr_emit(consts, gbuf, &offsets, &pixel_offsets)?;
         let rays = self.sssr_trace(consts, gbuf, &depth_pyramid, &list)?;
-        let hits = self.sssr_hits(consts, gbuf, &rays, &list)?;
+        let hits = self.sssr_hits(consts, gbuf, &color_pyramid, &rays, &list)?;
         let reflection = self.sssr_resolve(consts, gbuf, &color_pyramid, &rays, &hits, &pixels)?;
         let count = list.len() / LIST_STRIDE;
         Ok(FramePasses { depth_pyramid, color_pyramid, tiles, offsets, pixel_offsets, list, count, pixels, rays, hits, reflection })
@@ -389,15 +389,16 @@ impl Runner<'_> {
         })
     }
 
-    /// Hit records of the rays of the list (`HIT_STRIDE` per slot, `shader_core::ssr::hits`),
-    /// computed once per ray for the resolve; slots without a ray are zero (as
-    /// [`Runner::ray_hits`] writes them).
-    pub fn sssr_hits(&mut self, consts: &SsrParams, gbuf: &[f32], rays: &[f32], list: &[f32]) -> Result<Vec<f32>> {
+    /// Hit records of the rays of the list (`HIT_STRIDE` per slot, `shader_core::ssr::hits`;
+    /// colours from the colour pyramid `color_pyr`), computed once per ray for the resolve; slots
+    /// without a ray are zero (as [`Runner::ray_hits`] writes them).
+    pub fn sssr_hits(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], list: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let slots = ray_slots(&p);
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
-        self.list_pass::<HIT_STRIDE>("hits", "ssr::sssr_hits", list.len() / LIST_STRIDE, slots, &[], consts, &[gbuf, rays, list], |k, o| {
-            kern::sssr_hits_entry(&p, gbuf, rays, list, k, o, false)
+        ensure_color_pyramid(&p, color_pyr)?;
+        self.list_pass::<HIT_STRIDE>("hits", "ssr::sssr_hits", list.len() / LIST_STRIDE, slots, &[], consts, &[gbuf, color_pyr, rays, list], |k, o| {
+            kern::sssr_hits_entry(&p, gbuf, color_pyr, rays, list, k, o, false)
         })
     }
 

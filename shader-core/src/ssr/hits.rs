@@ -1,23 +1,26 @@
 //! Per-ray hit records for the neighbourhood resolves (Stachowiak 2015 "ray reuse"; HDRP's
 //! non-approximate reprojection): a ray's hit position, the density its pixel drew it with at
-//! the direction to that hit, the hit's previous-frame UV and edge fade and its
-//! filtered-importance-sampling cone depend on the ray alone, so one pass computes them once per
-//! ray ([`super::resolve::HIT_STRIDE`] layout) and the resolves, which visit every ray from up to
-//! nine pixels, read them.
+//! the direction to that hit, the hit's previous-frame UV and edge fade, its
+//! filtered-importance-sampling cone and the colour at the hit (mip 0) depend on the ray alone,
+//! so one pass computes them once per ray ([`super::resolve::HIT_STRIDE`] layout) and the
+//! resolves, which visit every ray from up to nine pixels, read them.
 //!
 //! The values are the very functions the resolves called per (pixel, ray) pair before, on the same
-//! inputs, so the resolves' outputs are unchanged to the bit.
+//! inputs, so the resolves' outputs are unchanged to the bit (the colour is used where the
+//! resolve's mip clamps to 0, `super::resolve::hit_color`).
 
 use super::params::SsrParams;
-use super::resolve::{edge_of_screen_fade, hit_position, load_ray, reproject_hit, HIT_STRIDE};
+use super::resolve::{edge_of_screen_fade, hit_position, load_ray, hit_colors_stored, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
 use super::stochastic::{fis_rays_in_window, fis_tan_half, ray_pdf_at_hit};
 use super::trace::{load_surface, RAY_STRIDE};
 use crate::buffer::store;
 
 /// Write the hit record of ray slot `slot` (pixel `slot / samples_per_pixel`, in the ray records'
-/// order) at `out[ob..ob + HIT_STRIDE]`; zeros when the slot holds no hitting ray.
+/// order) at `out[ob..ob + HIT_STRIDE]`, its colour sampled from the colour pyramid `color` where
+/// the resolves use it (`super::resolve::hit_colors_stored`; zeros otherwise); zeros when the slot
+/// holds no hitting ray.
 #[inline]
-pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], rays: &[f32], slot: u32, out: &mut [f32], ob: usize) {
+pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], slot: u32, out: &mut [f32], ob: usize) {
     let r = load_ray(rays, (slot as usize) * RAY_STRIDE);
     if !(r.valid && r.hit) {
         let mut k = 0;
@@ -34,9 +37,15 @@ pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], rays: &[f32], slot: u32, out
     store(out, ob, hp.x);
     store(out, ob + 1, hp.y);
     store(out, ob + 2, hp.z);
-    store(out, ob + 3, ray_pdf_at_hit(p, &sq, hp, r.pdf));
-    store(out, ob + 4, u);
-    store(out, ob + 5, v);
-    store(out, ob + 6, edge_of_screen_fade(u, v, p.edge_fade_rcp_length));
-    store(out, ob + 7, fis_tan_half(r.pdf, fis_rays_in_window(p)));
+    store(out, ob + HIT_PDF, ray_pdf_at_hit(p, &sq, hp, r.pdf));
+    store(out, ob + HIT_UV, u);
+    store(out, ob + HIT_UV + 1, v);
+    store(out, ob + HIT_FADE, edge_of_screen_fade(u, v, p.edge_fade_rcp_length));
+    store(out, ob + HIT_TAN_HALF, fis_tan_half(r.pdf, fis_rays_in_window(p)));
+    if hit_colors_stored(p) {
+        let c = sample_color(p, color, u, v, 0.0);
+        store(out, ob + HIT_COLOR, c.x);
+        store(out, ob + HIT_COLOR + 1, c.y);
+        store(out, ob + HIT_COLOR + 2, c.z);
+    }
 }

@@ -15,10 +15,10 @@
 //! ```
 
 use crate::ieee;
-use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams};
-use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_STRIDE};
+use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_FIS};
+use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
 use super::trace::info;
-use crate::buffer::{load, load3, load8};
+use crate::buffer::{load, load2, load3, load4, load8};
 use crate::masking;
 use crate::vector::Vec3;
 use spirv_std::num_traits::Float;
@@ -252,35 +252,53 @@ pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
 
 /// Floats per hit record (written by [`super::hits`], one per ray slot, in the ray records'
 /// order): hit position (view space) x y z, the generating pixel's density at the direction to
-/// it, previous-frame u v of the hit, its edge-of-screen fade, and the filtered-importance-sampling
-/// cone's half-angle tangent. Only slots whose ray hit are written; the rest stay zero.
-pub const HIT_STRIDE: usize = 8;
+/// it ([`HIT_PDF`]), previous-frame u v of the hit ([`HIT_UV`]), its edge-of-screen fade
+/// ([`HIT_FADE`]), the filtered-importance-sampling cone's half-angle tangent ([`HIT_TAN_HALF`])
+/// and the colour pyramid's mip-0 sample at (u, v), r g b ([`HIT_COLOR`], where
+/// [`hit_colors_stored`]). Only slots whose ray hit are written; the rest stay zero.
+pub const HIT_STRIDE: usize = 11;
+/// Offset of the pdf in a hit record (after the position).
+pub const HIT_PDF: usize = 3;
+/// Offset of the previous-frame (u, v) in a hit record.
+pub const HIT_UV: usize = 4;
+/// Offset of the edge-of-screen fade in a hit record.
+pub const HIT_FADE: usize = 6;
+/// Offset of the cone's half-angle tangent in a hit record.
+pub const HIT_TAN_HALF: usize = 7;
+/// Offset of the mip-0 colour (r, g, b) in a hit record: [`sample_color`] at (u, v), mip 0.
+pub const HIT_COLOR: usize = 8;
 
-/// A decoded hit record: what every resolve needs of a hitting ray that does not depend on the
-/// pixel resolving it, computed once per ray ([`super::hits::hit_record_slot`]) instead of once
-/// per (pixel, neighbour ray) pair.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct HitRecord {
-    /// View-space position of the hit ([`hit_position`]).
-    pub pos: Vec3,
-    /// The generating pixel's sampling density at the direction to `pos`
-    /// (`stochastic::ray_pdf_at_hit`).
-    pub pdf: f32,
-    /// Previous-frame UV of the hit ([`reproject_hit`]).
-    pub u: f32,
-    pub v: f32,
-    /// [`edge_of_screen_fade`] at (u, v).
-    pub fade: f32,
-    /// Tangent of the half-angle of the ray's filtered-importance-sampling cone
-    /// (`stochastic::fis_tan_half`).
-    pub tan_half: f32,
+/// Hit position and pdf of the hit record at `hits[b..]` (the part every resolve weight needs;
+/// zeros past the end).
+#[inline]
+pub fn load_hit_pos_pdf(hits: &[f32], b: usize) -> (Vec3, f32) {
+    let [x, y, z, pdf] = load4(hits, b);
+    (Vec3::new(x, y, z), pdf)
 }
 
-/// Decode the hit record at `hits[b..]` (all zeros if it lies past the end).
+/// Does the hits pass store each ray's mip-0 colour ([`HIT_COLOR`])? When the frame's resolves
+/// gather at mip 0 only (HDRP's resolves; the stochastic one without filtered importance
+/// sampling), where it replaces 12 texel values per (pixel, ray) pair by 3 per pair and 12 per
+/// ray. With filtered importance sampling most rays of a 1080p frame gather above mip 0 and the
+/// record's colour would cost the hits pass more than it saves: the slots stay zero.
 #[inline]
-pub fn load_hit(hits: &[f32], b: usize) -> HitRecord {
-    let [x, y, z, pdf, u, v, fade, tan_half] = load8(hits, b);
-    HitRecord { pos: Vec3::new(x, y, z), pdf, u, v, fade, tan_half }
+pub fn hit_colors_stored(p: &SsrParams) -> bool {
+    p.flags & FLAG_FIS == 0
+}
+
+/// The colour a resolve gathers for the hitting ray whose record is at `hits[hb..]`, at colour
+/// mip `mip`: [`sample_color`] at the record's (u, v). Where the mip clamps to 0 and the record
+/// holds its mip-0 sample ([`hit_colors_stored`]; the hits pass computed it with the same
+/// function), that sample, read as 3 values instead of 12 texel values.
+#[inline]
+pub fn hit_color(p: &SsrParams, color: &[f32], hits: &[f32], hb: usize, mip: f32) -> Vec3 {
+    if hit_colors_stored(p) && clampf(mip, 0.0, p.color_max_mip as f32) == 0.0 {
+        let [r, g, b] = load3(hits, hb + HIT_COLOR);
+        Vec3::new(r, g, b)
+    } else {
+        let [u, v] = load2(hits, hb + HIT_UV);
+        sample_color(p, color, u, v, mip)
+    }
 }
 
 /// The hit pixel's previous-frame UV (its UV minus the motion vector stored at the hit pixel).
@@ -375,20 +393,28 @@ fn accumulate_neighbor(
     acc_a: &mut f32,
     acc_w: &mut f32,
 ) {
-    let r = load_ray(rays, q * RAY_STRIDE);
-    if !r.valid {
+    let rb = q * RAY_STRIDE;
+    let bits = load(rays, rb + RAY_INFO).to_bits();
+    if bits & info::VALID == 0 {
         return;
     }
-    let h = load_hit(hits, q * HIT_STRIDE);
-    let l = if r.hit { (h.pos - s.pos).normalize_or_zero() } else { r.dir };
+    let hit = bits & info::HIT != 0;
+    let hb = q * HIT_STRIDE;
+    let l = if hit {
+        (load_hit_pos_pdf(hits, hb).0 - s.pos).normalize_or_zero()
+    } else {
+        let [dx, dy, dz] = load3(rays, rb + RAY_PDF + 1);
+        Vec3::new(dx, dy, dz)
+    };
     let w = ssr_sample_weight_lv(s.n, l, alpha, lambda_v_plus_one);
     if !(w > 0.0) {
         return;
     }
-    if r.hit {
-        let c = sample_color(p, color, h.u, h.v, 0.0);
-        *acc = *acc + c * (h.fade * w);
-        *acc_a += h.fade * w;
+    if hit {
+        let c = hit_color(p, color, hits, hb, 0.0);
+        let fade = load(hits, hb + HIT_FADE);
+        *acc = *acc + c * (fade * w);
+        *acc_a += fade * w;
     }
     *acc_w += w;
 }

@@ -24,11 +24,11 @@
 use crate::ieee;
 use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::resolve::{
-    lambda_cos, load_hit, load_ray, log2_approx, perceptual_roughness_fade, sample_color, store as resolve_store,
-    store_resolved, HIT_STRIDE, OUT_STRIDE,
+    hit_color, lambda_cos, load_hit_pos_pdf, log2_approx, perceptual_roughness_fade, store as resolve_store, store_resolved,
+    HIT_FADE, HIT_STRIDE, HIT_TAN_HALF, OUT_STRIDE,
 };
-use super::trace::{clampf, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_STRIDE};
-use crate::buffer::{load, store};
+use super::trace::{clampf, info, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_INFO, RAY_PDF, RAY_STRIDE};
+use crate::buffer::{load, load2, load4, store};
 use crate::ndf;
 use crate::rng;
 use crate::vndf;
@@ -467,30 +467,43 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], h
                 let q = qy as u32 * p.width + qx as u32;
                 let mut k = 0;
                 while k < spp {
+                    // Only what this ray's case needs is read: a miss its pdf and direction, a hit
+                    // its hit record's position and pdf, then (if it weighs anything) its fade,
+                    // cone and colour (`hit_color`: the record's own mip-0 sample where the mip is 0).
                     let slot = (q * spp + k) as usize;
-                    let r = load_ray(rays, slot * RAY_STRIDE);
+                    let rb = slot * RAY_STRIDE;
+                    let hb = slot * HIT_STRIDE;
+                    let bits = load(rays, rb + RAY_INFO).to_bits();
                     k += 1;
-                    if !r.valid {
+                    if bits & info::VALID == 0 {
                         continue;
                     }
-                    let h = load_hit(hits, slot * HIT_STRIDE);
-                    let (l, pdf) = if r.hit { ((h.pos - s.pos).normalize_or_zero(), h.pdf) } else { (r.dir, r.pdf) };
+                    let hit = bits & info::HIT != 0;
+                    let (l, pdf) = if hit {
+                        let (pos, pdf) = load_hit_pos_pdf(hits, hb);
+                        ((pos - s.pos).normalize_or_zero(), pdf)
+                    } else {
+                        let [pdf, dx, dy, dz] = load4(rays, rb + RAY_PDF);
+                        (Vec3::new(dx, dy, dz), pdf)
+                    };
                     let w = ray_weight(&s, alpha, nv, lambda_v, mirror, l, pdf);
                     if !(w > 0.0) {
                         continue;
                     }
-                    if r.hit {
+                    if hit {
                         let mut mip = 0.0;
                         if fis {
                             // Footprint diameter in pixels at the hit's screen distance.
-                            let ddx = r.hx - s.origin.x;
-                            let ddy = r.hy - s.origin.y;
+                            let [hx, hy] = load2(rays, rb);
+                            let ddx = hx - s.origin.x;
+                            let ddy = hy - s.origin.y;
                             let dist_px = ieee::sqrt(ddx * ddx + ddy * ddy);
-                            mip = maxf(0.0, log2_approx(2.0 * dist_px * h.tan_half));
+                            mip = maxf(0.0, log2_approx(2.0 * dist_px * load(hits, hb + HIT_TAN_HALF)));
                         }
-                        let c = sample_color(p, color, h.u, h.v, mip);
-                        acc = acc + c * (h.fade * w);
-                        acc_a += h.fade * w;
+                        let c = hit_color(p, color, hits, hb, mip);
+                        let fade = load(hits, hb + HIT_FADE);
+                        acc = acc + c * (fade * w);
+                        acc_a += fade * w;
                     }
                     acc_w += w;
                 }
@@ -564,14 +577,14 @@ pub fn reflection_hit_distance(p: &SsrParams, rays: &[f32], hits: &[f32], s: &Su
     let mut k = 0;
     while k < spp {
         let slot = (q * spp + k) as usize;
-        let r = load_ray(rays, slot * RAY_STRIDE);
+        let bits = load(rays, slot * RAY_STRIDE + RAY_INFO).to_bits();
         k += 1;
-        if r.valid && r.hit {
-            let h = load_hit(hits, slot * HIT_STRIDE);
-            let d = h.pos - s.pos;
+        if bits & info::VALID != 0 && bits & info::HIT != 0 {
+            let (pos, pdf) = load_hit_pos_pdf(hits, slot * HIT_STRIDE);
+            let d = pos - s.pos;
             let len = ieee::sqrt(d.dot(d));
             let l = if len > 0.0 { d / len } else { Vec3::ZERO };
-            let w = ray_weight(s, alpha, nv, lambda_v, mirror, l, h.pdf);
+            let w = ray_weight(s, alpha, nv, lambda_v, mirror, l, pdf);
             acc_d += w * len;
             acc_w += w;
         }

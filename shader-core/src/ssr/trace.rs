@@ -40,6 +40,10 @@ pub const GBUF_STRIDE: usize = 8;
 /// depth, info bits (see [`info`]), ray pdf (solid angle; 0 for mirror rays), ray direction
 /// (view space) x y z.
 pub const RAY_STRIDE: usize = 8;
+/// Offset of the info bits in a ray record.
+pub const RAY_INFO: usize = 3;
+/// Offset of the pdf in a ray record (the direction x y z follows it).
+pub const RAY_PDF: usize = 4;
 
 /// HDRP's `SSR_TRACE_EPS`: how far a position is nudged past a cell edge along the ray (2^-11 px).
 pub const TRACE_EPS: f32 = 0.000_488_281_25;
@@ -529,8 +533,8 @@ pub fn trace_and_store(
     store(out, ob, if hit { h.x as f32 + 0.5 } else { -1.0 });
     store(out, ob + 1, if hit { h.y as f32 + 0.5 } else { -1.0 });
     store(out, ob + 2, if hit { h.d } else { 0.0 });
-    store(out, ob + 3, f32::from_bits(bits));
-    store(out, ob + 4, pdf);
+    store(out, ob + RAY_INFO, f32::from_bits(bits));
+    store(out, ob + RAY_PDF, pdf);
     store(out, ob + 5, r.x);
     store(out, ob + 6, r.y);
     store(out, ob + 7, r.z);
