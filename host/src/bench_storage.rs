@@ -9,7 +9,9 @@
 //! invocation shares (`input[j]`, as the SSR passes read their parameter record while it was a
 //! storage buffer), as K `f32` loads or K / 4 `vec4<f32>` loads, and the own-record reads also as
 //! `textureLoad`s of an R32Float texture (host/src/wgsl/storage_texture.wgsl: the way around the
-//! storage-buffer cost a kernel could take). Every GPU result is checked
+//! storage-buffer cost a kernel could take); and 16 floats at per-invocation addresses of a 64 KiB
+//! table, held in a storage buffer or in a uniform buffer (host/src/wgsl/storage_table.wgsl: the
+//! energy LUT taps' pattern, and the other buffer such a table could live in). Every GPU result is checked
 //! against the CPU's sums (exact: the inputs are multiples of 1/4), so a kernel that skipped its
 //! reads would fail the run rather than look fast. GPU times are the timestamp queries around the
 //! compute pass (uploads and readback excluded; the texture rows: the wall clock from submitting
@@ -45,27 +47,48 @@ pub struct StorageArgs {
 }
 
 /// One kernel: its entry point, floats it reads per invocation, load instructions per
-/// invocation, whether every invocation reads the same addresses, and whether it reads them
-/// from a sampled texture instead of a storage buffer.
+/// invocation, whether every invocation reads the same addresses, whether it reads them
+/// from a sampled texture instead of a storage buffer, and whether it reads a 64 KiB table at
+/// per-invocation addresses ([`TABLE_FLOATS`]; `storage_` / `uniform_`: the buffer it is in).
 struct Kernel {
     entry: &'static str,
     floats: usize,
     loads: usize,
     shared: bool,
     texture: bool,
+    table: bool,
 }
 
-const KERNELS: [Kernel; 9] = [
-    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false, texture: false },
-    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false, texture: false },
-    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false, texture: false },
-    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true, texture: false },
-    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false, texture: false },
-    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false, texture: false },
-    Kernel { entry: "texel_own_1", floats: 1, loads: 1, shared: false, texture: true },
-    Kernel { entry: "texel_own_4", floats: 4, loads: 4, shared: false, texture: true },
-    Kernel { entry: "texel_own_16", floats: 16, loads: 16, shared: false, texture: true },
+const KERNELS: [Kernel; 11] = [
+    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false, texture: false, table: false },
+    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false, texture: false, table: false },
+    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false, texture: false, table: false },
+    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true, texture: false, table: false },
+    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false, texture: false, table: false },
+    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false, texture: false, table: false },
+    Kernel { entry: "texel_own_1", floats: 1, loads: 1, shared: false, texture: true, table: false },
+    Kernel { entry: "texel_own_4", floats: 4, loads: 4, shared: false, texture: true, table: false },
+    Kernel { entry: "texel_own_16", floats: 16, loads: 16, shared: false, texture: true, table: false },
+    Kernel { entry: "storage_table_16", floats: 16, loads: 16, shared: false, texture: false, table: true },
+    Kernel { entry: "uniform_table_16", floats: 16, loads: 16, shared: false, texture: false, table: true },
 ];
+
+/// The table rows' WGSL (`SPACE`: the table's address space, `PREFIX`: the entry point's prefix).
+const WGSL_TABLE: &str = include_str!("wgsl/storage_table.wgsl");
+
+/// Floats in the table rows' table: 64 KiB, the largest uniform buffer every Vulkan device binds.
+const TABLE_FLOATS: usize = 16384;
+
+/// The table module whose table lives in `space` ("storage" or "uniform").
+fn table_module(space: &str) -> String {
+    let decl = if space == "uniform" { "uniform" } else { "storage, read" };
+    WGSL_TABLE.replace("SPACE", decl).replace("fn PREFIX_", &format!("fn {space}_"))
+}
+
+/// The table address invocation `i` reads `j`-th (the WGSL's formula).
+fn table_address(i: usize, j: usize) -> usize {
+    (i * 16 + j * 977) & (TABLE_FLOATS - 1)
+}
 
 /// The texture rows' WGSL (`textureLoad` of an R32Float texture).
 const WGSL_TEXTURE: &str = include_str!("wgsl/storage_texture.wgsl");
@@ -82,6 +105,8 @@ pub struct StorageRow {
     pub shared_addresses: bool,
     /// Read from a sampled R32Float texture (`textureLoad`) rather than a storage buffer.
     pub texture: bool,
+    /// Reads a 64 KiB table at per-invocation addresses (the buffer it is in: the kernel's prefix).
+    pub table: bool,
     /// How the GPU time was taken: "timestamp query" (the pass) or "wall clock" (the texture
     /// rows: submission to completion of the dispatch alone, uploads and readback excluded).
     pub gpu_timing: String,
@@ -103,7 +128,7 @@ fn wgsl_module(prefix: &str) -> String {
 
 /// The input of kernel `k`: multiples of 1/4 below 2, so every sum is exact in f32.
 fn input_of(k: &Kernel, n: usize) -> Vec<f32> {
-    let len = if k.shared { k.floats } else { n * k.floats };
+    let len = if k.table { TABLE_FLOATS } else if k.shared { k.floats } else { n * k.floats };
     (0..len).map(|j| (j % 7) as f32 * 0.25).collect()
 }
 
@@ -112,7 +137,9 @@ fn input_of(k: &Kernel, n: usize) -> Vec<f32> {
 fn cpu_sums(k: &Kernel, input: &[f32], out: &mut [f32]) -> f64 {
     let t0 = Instant::now();
     let f = k.floats;
-    if k.shared {
+    if k.table {
+        out.par_iter_mut().enumerate().for_each(|(i, o)| *o = (0..f).map(|j| input[table_address(i, j)]).sum());
+    } else if k.shared {
         out.par_iter_mut().for_each(|o| *o = input[..f].iter().sum());
     } else {
         out.par_iter_mut().zip(input.par_chunks_exact(f)).for_each(|(o, r)| *o = r.iter().sum());
@@ -130,6 +157,8 @@ pub fn run(a: &StorageArgs) -> Result<()> {
         let names: Vec<&str> = KERNELS.iter().filter(|k| !k.texture).map(|k| k.entry).filter(|e| e.starts_with(prefix)).collect();
         g.add_wgsl(&format!("storage bench ({prefix})"), &wgsl_module(prefix), &names)?;
     }
+    g.add_wgsl("storage bench (table in a storage buffer)", &table_module("storage"), &["storage_table_16"])?;
+    g.add_wgsl_with_uniforms("storage bench (table in a uniform buffer)", &table_module("uniform"), &["uniform_table_16"], &[("uniform_table_16", 1)])?;
     let n = a.invocations as usize;
     let mut rows = Vec::new();
     let mut expected = vec![0.0f32; n];
@@ -163,6 +192,7 @@ pub fn run(a: &StorageArgs) -> Result<()> {
             load_instructions_per_invocation: k.loads,
             shared_addresses: k.shared,
             texture: k.texture,
+            table: k.table,
             gpu_timing: if k.texture { "wall clock" } else { "timestamp query" }.into(),
             gpu_ns_per_invocation: per(gb),
             gpu_median_ns_per_invocation: per(gm),
@@ -341,10 +371,12 @@ fn markdown(info: &RunInfo, a: &StorageArgs, rows: &[StorageRow]) -> String {
             r.kernel,
             r.floats_per_invocation,
             r.load_instructions_per_invocation,
-            match (r.texture, r.shared_addresses) {
-                (true, _) => "own record, texture",
-                (false, true) => "shared by all",
-                (false, false) => "own record",
+            match (r.table, r.texture, r.shared_addresses) {
+                (true, ..) if r.kernel.starts_with("uniform") => "64 KiB table, uniform buffer",
+                (true, ..) => "64 KiB table, storage buffer",
+                (false, true, _) => "own record, texture",
+                (false, false, true) => "shared by all",
+                (false, false, false) => "own record",
             },
             r.gpu_ns_per_invocation,
             r.gpu_median_ns_per_invocation,
@@ -372,10 +404,28 @@ mod tests {
         for k in KERNELS.iter().filter(|k| k.texture) {
             assert!(WGSL_TEXTURE.contains(&format!("fn {}(", k.entry)), "{}", k.entry);
         }
-        for k in KERNELS.iter().filter(|k| !k.texture) {
+        for k in KERNELS.iter().filter(|k| !k.texture && !k.table) {
             let prefix = k.entry.split('_').next().unwrap();
             assert!(wgsl_module(prefix).contains(&format!("fn {}(", k.entry)), "{}", k.entry);
         }
+        let u = table_module("uniform");
+        assert!(u.contains("var<uniform> table") && u.contains("fn uniform_table_16(") && !u.contains("SPACE"));
+        let st = table_module("storage");
+        assert!(st.contains("var<storage, read> table") && st.contains("fn storage_table_16("));
+        assert!(KERNELS.iter().filter(|k| k.table).all(|k| table_module(k.entry.split('_').next().unwrap()).contains(&format!("fn {}(", k.entry))));
+    }
+
+    #[test]
+    fn table_sums_read_the_wgsl_addresses() {
+        let k = KERNELS.iter().find(|k| k.entry == "uniform_table_16").unwrap();
+        let input = input_of(k, 2);
+        assert_eq!(input.len(), TABLE_FLOATS);
+        let mut out = vec![0.0; 2];
+        cpu_sums(k, &input, &mut out);
+        // Invocation 1 reads 16 + 977 j: the WGSL's (i * 16 + j * 977) & 16383.
+        let want: f32 = (0..16).map(|j| ((16 + 977 * j) % 7) as f32 * 0.25).sum();
+        assert_eq!(out[1], want);
+        assert_eq!(table_address(16383, 15), (16383 * 16 + 15 * 977) % 16384);
     }
 
     #[test]

@@ -280,9 +280,21 @@ impl GpuContext {
     /// ones: a caller's own kernels, or the benches' speed references. naga's translation is not
     /// bit-exact with the project's kernels (no NoContraction, the driver's own sqrt/division).
     pub fn add_wgsl(&self, label: &str, source: &str, entries: &[&str]) -> Result<(), GpuError> {
+        self.add_wgsl_with_uniforms(label, source, entries, &[])
+    }
+
+    /// [`GpuContext::add_wgsl`] for a module whose entry points read uniform buffers: `uniform`
+    /// lists (entry point, binding) pairs declared `var<uniform>` (the SPIR-V modules' are found
+    /// in their code; naga's WGSL is not inspected), bound as uniform buffers at dispatch.
+    pub fn add_wgsl_with_uniforms(&self, label: &str, source: &str, entries: &[&str], uniform: &[(&str, u32)]) -> Result<(), GpuError> {
         let m = validated(&self.device, label, || {
             self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(source)) })
         })?;
+        let mut u = self.uniforms.lock().unwrap();
+        for &(entry, binding) in uniform {
+            u.entry(entry.to_string()).or_default().push(binding);
+        }
+        drop(u);
         self.extra_modules.lock().unwrap().push((m, entries.iter().map(|e| e.to_string()).collect()));
         Ok(())
     }
