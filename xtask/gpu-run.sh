@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # The real-GPU check, run from the repository root on a machine with a GPU and no Rust toolchain
 # (the `device` tool's machine): the cross-check test binaries and the host's benchmarks that
-# `cargo xtask gpu-bundle` packed into .gpu-bundle/. Writes at most 7 files to $OUT
-# (default out/gpu-run): run.log (machine, adapter, every test's output, the SSR per-pass times),
-# kernel-rates.{md,json}, render-bench.{md,json}. Exits non-zero if a test failed.
+# `cargo xtask gpu-bundle` packed into .gpu-bundle/. Writes to $OUT (default out/gpu-run):
+# run.log (machine, adapter, every test's output, every benchmark's output) and reports.tar.gz
+# (reports/: kernel rates, SSR per-pass times at 1920x1080, render, energy and storage benchmarks,
+# each .md + .json). Exits non-zero if a test failed.
 #
 #   device run, carry [".gpu-bundle", ".gl"]:  bash .gpu-bundle/run.sh
 #
 # GPU_RUN_ADAPTER=<substring> picks the Vulkan adapter (default: the runner's choice, a discrete
-# GPU first); GPU_RUN_QUICK=1 skips the benchmarks (tests only).
+# GPU first); GPU_RUN_QUICK=1 skips the benchmarks (tests only); GPU_RUN_TEST_TIMEOUT (seconds,
+# default 300) bounds each test binary.
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
 OUT=${OUT:-out/gpu-run}
@@ -51,11 +53,19 @@ say "== bundle: $(cat "$here/commit")"
 "$bin/host" info 2>&1 | tee -a "$log"
 
 failed=0
+# The reports are written outside $OUT and packed into $OUT/reports.tar.gz after each step, so
+# what a step that ran out of time left behind still comes back (the device tool returns at most
+# 8 files from $OUT).
+work=/tmp/gpu-run
+rep="$work/reports"
+rm -rf "$rep"
+mkdir -p "$rep"
+pack() { tar -czf "$OUT/reports.tar.gz.tmp" -C "$work" reports && mv "$OUT/reports.tar.gz.tmp" "$OUT/reports.tar.gz"; }
 for t in "$bin"/test-*; do
     name=$(basename "$t")
     say "== $name (CI=true: a comparison that cannot run fails)"
     t0=$(date +%s)
-    CI=true timeout 300 "$t" 2>&1 | tee -a "$log"
+    CI=true timeout "${GPU_RUN_TEST_TIMEOUT:-300}" "$t" 2>&1 | tee -a "$log"
     rc=${PIPESTATUS[0]}
     say "== $name: exit $rc in $(( $(date +%s) - t0 )) s"
     [ "$rc" -eq 0 ] || failed=1
@@ -64,25 +74,34 @@ done
 # The native build (driver OpFDiv/Sqrt) on this GPU, reported, not counted: HOST_DIV_SQRT=auto
 # loads it only on drivers known to round them correctly, so the tests above ran the exact build
 # here unless the driver is one of those; `host info` above printed the native build's probe.
-for name in test-foundation test-math_crosscheck; do
-    [ -x "$bin/$name" ] || continue
-    say "== $name with HOST_DIV_SQRT=native (informational: does the driver's division match the CPU's bits?)"
-    HOST_DIV_SQRT=native CI=true timeout 120 "$bin/$name" 2>&1 | tee -a "$log"
-    say "== $name native: exit ${PIPESTATUS[0]} (not counted)"
+for t in "$bin"/test-*; do
+    say "== $(basename "$t") foundation + math_crosscheck with HOST_DIV_SQRT=native (informational: does the driver's division match the CPU's bits?)"
+    for filter in foundation:: math_crosscheck::; do
+        HOST_DIV_SQRT=native CI=true timeout 120 "$t" "$filter" 2>&1 | tee -a "$log"
+        say "== $filter native: exit ${PIPESTATUS[0]} (not counted)"
+    done
 done
 
+step() { # step NAME SECONDS host-arguments...: one benchmark, its time, its exit status
+    local name=$1 secs=$2
+    shift 2
+    say "== $name: host $*"
+    local t0
+    t0=$(date +%s)
+    timeout "$secs" "$bin/host" "$@" 2>&1 | tee -a "$log"
+    say "== $name: exit ${PIPESTATUS[0]} in $(( $(date +%s) - t0 )) s"
+    pack
+}
 if [ "${GPU_RUN_QUICK:-0}" != 1 ]; then
-    say "== bench kernels"
-    timeout 240 "$bin/host" bench kernels --device gpu --rows 1048576 --repeats 3 --output "$OUT/kernel-rates.md" 2>&1 | tee -a "$log"
-    for pipeline in "sssr" "hdrp --resolve 3x3" "hdrp --resolve approx"; do
-        say "== ssr 1920x1080 floor $pipeline, GPU then CPU backend"
-        for device in gpu cpu; do
-            timeout 120 "$bin/host" ssr --scene floor --pipeline $pipeline --width 1920 --height 1080 --reference-samples 0 \
-                --device $device -o /tmp/gpu-run-ssr.exr 2>&1 | tee -a "$log"
-        done
-    done
-    say "== bench render"
-    timeout 240 "$bin/host" bench render --device gpu --report "$OUT/render-bench.md" 2>&1 | tee -a "$log"
+    step "bench kernels" 240 bench kernels --device gpu --rows 1048576 --repeats 3 --output "$rep/kernel-rates.md"
+    step "ssr passes 1920x1080" 240 ssr passes --devices gpu,cpu --rounds 3 \
+        --config "--scene floor --pipeline sssr" --config "--scene floor --pipeline hdrp" \
+        --config "--scene floor --pipeline hdrp --resolve 3x3" --config "--scene floor --pipeline sssr --no-fis" \
+        --report "$rep/ssr-passes-1080p.md"
+    step "bench render" 240 bench render --device gpu --report "$rep/render-bench.md"
+    step "energy bench" 240 energy bench --device gpu --report "$rep/energy-bench.md"
+    step "bench storage" 120 bench storage --repeats 5 --output "$rep/storage-bench.md"
 fi
+pack
 say "== done: tests $([ $failed -eq 0 ] && echo passed || echo FAILED)"
 exit $failed

@@ -86,8 +86,10 @@ enum Cmd {
     /// with CI=true and the kernel, SSR and render benchmarks there and writes its reports to $OUT.
     /// Fails if the bundle would exceed the device tool's 64 MiB transfer.
     GpuBundle {
-        /// Test binaries of the `crosscheck` crate to include (comma separated).
-        #[arg(long, value_delimiter = ',', default_value = "eval_registry,render_crosscheck,ssr_gltf,ssr_sssr")]
+        /// Test binaries of the `crosscheck` crate to include (comma separated). The default,
+        /// `all_crosschecks`, holds every test file of the crate in one binary (each binary
+        /// embeds the SPIR-V modules, about 9 MiB compressed, so only a few would fit).
+        #[arg(long, value_delimiter = ',', default_value = "all_crosschecks")]
         tests: Vec<String>,
     },
 }
