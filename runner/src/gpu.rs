@@ -4,6 +4,7 @@
 //! so the arithmetic the driver sees is exactly what rust-gpu emitted; otherwise it goes through
 //! naga's SPIR-V front end (which adds bounds checks). [`GpuContext::describe`] says which.
 
+use crate::kernel_module::KernelModule;
 use crate::shaders::ShaderModule;
 use crate::timing::{Timing, TimingSource};
 use std::borrow::Cow;
@@ -42,15 +43,14 @@ pub struct GpuContext {
     pub limits: wgpu::Limits,
     /// fp32 denormal mode declared in the loaded SPIR-V (crate::float_controls).
     pub denorm_policy: crate::float_controls::DenormPolicy,
-    module: wgpu::ShaderModule,
+    /// The main module (handed to the driver one entry point at a time).
+    main: KernelModule,
     /// Which build of the main module is loaded (exact or native division / square root).
     pub div_sqrt: crate::shaders::DivSqrt,
     /// Why that build (the `HOST_DIV_SQRT` choice and, for `auto`, the driver and probe).
     pub div_sqrt_why: String,
-    /// The main module's entry points (from its manifest).
-    entry_points: Vec<String>,
-    /// The subgroup module and its entry points, where the adapter has subgroup operations.
-    subgroup_module: Option<(wgpu::ShaderModule, Vec<String>)>,
+    /// The subgroup module, where the adapter has subgroup operations.
+    subgroup_module: Option<KernelModule>,
     /// Modules added at run time (the benches' WGSL speed references) and their entry points.
     extra_modules: Mutex<Vec<(wgpu::ShaderModule, Vec<String>)>>,
     pipelines: Mutex<HashMap<(String, usize, usize), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>>,
@@ -150,15 +150,14 @@ impl GpuContext {
         // SAFETY: the module is the one rust-gpu produced (validated by spirv-val during the
         // build) and its manifest was checked against the sources; bindings are declared
         // explicitly in `pipeline()` to match the entry points' signatures.
-        let module = unsafe { spirv_module(&device, "shader-kernels", &words, &shader.manifest.entry_points, passthrough)? };
         let mut uniforms = uniform_bindings(&words)?;
+        let main = unsafe { KernelModule::new(&device, "shader-kernels", words, shader.manifest.entry_points.clone(), passthrough)? };
         let subgroup_module = if subgroups {
             let sg = crate::shaders::load_subgroup().map_err(GpuError::Shader)?;
             let sg_words = denorm_policy.apply(&sg.words).map_err(GpuError::Shader)?;
             // SAFETY: as for the main module (rust-gpu output, spirv-val'd, manifest checked).
-            let m = unsafe { spirv_module(&device, "shader-kernels-subgroup", &sg_words, &sg.manifest.entry_points, true)? };
             uniforms.extend(uniform_bindings(&sg_words)?);
-            Some((m, sg.manifest.entry_points.clone()))
+            Some(unsafe { KernelModule::new(&device, "shader-kernels-subgroup", sg_words, sg.manifest.entry_points.clone(), true)? })
         } else {
             None
         };
@@ -170,8 +169,7 @@ impl GpuContext {
             timestamps,
             limits,
             denorm_policy,
-            module,
-            entry_points: shader.manifest.entry_points.clone(),
+            main,
             div_sqrt: shader.div_sqrt,
             div_sqrt_why: String::new(),
             subgroup_module,
@@ -234,12 +232,13 @@ impl GpuContext {
     /// One line naming the adapter, driver and how shaders and timings are handled.
     pub fn describe(&self) -> String {
         format!(
-            "{} ({:?}, driver {} {}); SPIR-V {}{}; {}; timings from {}; {}",
+            "{} ({:?}, driver {} {}); SPIR-V {}, {}{}; {}; timings from {}; {}",
             self.info.name,
             self.info.device_type,
             self.info.driver,
             self.info.driver_info,
             if self.passthrough { "passed through unchanged" } else { "translated by naga" },
+            self.main.describe(),
             if self.subgroup_module.is_some() { ", subgroup kernels loaded" } else { ", no subgroup kernels" },
             if self.div_sqrt_why.is_empty() { self.div_sqrt.describe().to_string() } else { format!("{} ({})", self.div_sqrt.describe(), self.div_sqrt_why) },
             if self.timestamps { "timestamp queries" } else { "wall clock" },
@@ -252,9 +251,8 @@ impl GpuContext {
     pub fn set_main_module(&mut self, shader: &ShaderModule, why: String) -> Result<(), GpuError> {
         let words = self.denorm_policy.apply(&shader.words).map_err(GpuError::Shader)?;
         // SAFETY: as in `new` (rust-gpu output, spirv-val'd, manifest checked).
-        self.module = unsafe { spirv_module(&self.device, "shader-kernels", &words, &shader.manifest.entry_points, self.passthrough)? };
-        self.entry_points = shader.manifest.entry_points.clone();
         self.uniforms.lock().unwrap().extend(uniform_bindings(&words)?);
+        self.main = unsafe { KernelModule::new(&self.device, "shader-kernels", words, shader.manifest.entry_points.clone(), self.passthrough)? };
         self.div_sqrt = shader.div_sqrt;
         self.div_sqrt_why = why;
         self.pipelines.lock().unwrap().clear();
@@ -301,7 +299,9 @@ impl GpuContext {
 
     /// Whether a loaded module has entry point `entry`.
     pub fn has_module_for(&self, entry: &str) -> bool {
-        self.module_for(entry).is_ok()
+        self.extra_modules.lock().unwrap().iter().any(|(_, names)| names.iter().any(|n| n == entry))
+            || self.subgroup_module.as_ref().is_some_and(|m| m.has(entry))
+            || self.main.has(entry)
     }
 
     /// The module holding `entry`, or an error naming the entry points there are.
@@ -310,15 +310,15 @@ impl GpuContext {
             return Ok(m.clone());
         }
         match &self.subgroup_module {
-            Some((m, names)) if names.iter().any(|n| n == entry) => return Ok(m.clone()),
+            Some(m) if m.has(entry) => return m.module(&self.device, entry),
             _ => {}
         }
-        if self.entry_points.iter().any(|n| n == entry) {
-            Ok(self.module.clone())
+        if self.main.has(entry) {
+            self.main.module(&self.device, entry)
         } else {
             Err(GpuError::Shader(format!(
                 "the SPIR-V module has no entry point {entry:?} (it has {}); rebuild it with `cargo xtask build-shaders`",
-                self.entry_points.len()
+                self.main.entry_points().len()
             )))
         }
     }
@@ -332,6 +332,7 @@ impl GpuContext {
         if let Some(p) = self.pipelines.lock().unwrap().get(&key) {
             return Ok(p.clone());
         }
+        let t0 = Instant::now();
         let module = self.module_for(entry)?;
         let uniform = self.uniforms.lock().unwrap().get(entry).cloned().unwrap_or_default();
         if let Some(b) = uniform.iter().find(|&&b| b as usize >= n_read) {
@@ -339,7 +340,6 @@ impl GpuContext {
                 "{entry}: binding {b} is a uniform buffer but the dispatch binds only {n_read} read-only buffers before its read-write ones"
             )));
         }
-        let t0 = Instant::now();
         let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..n_read + n_write)
             .map(|i| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
@@ -594,7 +594,7 @@ fn validated(device: &wgpu::Device, label: &str, create: impl FnOnce() -> wgpu::
 /// # Safety
 /// With `passthrough` the words reach the driver unvalidated: they must be a valid SPIR-V
 /// compute module whose bindings are storage buffers in the order the dispatches bind them.
-unsafe fn spirv_module(device: &wgpu::Device, label: &str, words: &[u32], entries: &[String], passthrough: bool) -> Result<wgpu::ShaderModule, GpuError> {
+pub(crate) unsafe fn spirv_module(device: &wgpu::Device, label: &str, words: &[u32], entries: &[String], passthrough: bool) -> Result<wgpu::ShaderModule, GpuError> {
     validated(device, label, || {
         if passthrough {
             let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = entries

@@ -21,6 +21,7 @@ pub mod cpu;
 pub mod div_sqrt_probe;
 pub mod float_controls;
 pub mod gpu;
+mod kernel_module;
 pub mod shaders;
 pub mod timing;
 

@@ -7,6 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod entry_point;
+
 /// Crates whose sources are compiled into the SPIR-V, relative to the workspace root.
 pub const SHADER_CRATES: [&str; 2] = ["shader-core", "shader-kernels"];
 /// Where the committed SPIR-V lives, relative to the workspace root.
