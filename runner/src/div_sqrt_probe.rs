@@ -102,15 +102,20 @@ fn expected(a: f32, b: f32) -> [f32; 6] {
 
 /// Run the probe on `gpu`'s loaded main module.
 pub fn run(gpu: &GpuContext) -> Result<ProbeReport, GpuError> {
-    let f = shader_kernels::eval::find("arith_probe").expect("arith_probe is registered");
     let input = probe_rows();
+    let got = run_rows(gpu, &input)?;
+    Ok(compare(&input, &got))
+}
+
+/// `arith_probe`'s six outputs per row for the (a, b) pairs `input` (flattened), on `gpu`.
+pub fn run_rows(gpu: &GpuContext, input: &[f32]) -> Result<Vec<f32>, GpuError> {
+    let f = shader_kernels::eval::find("arith_probe").expect("arith_probe is registered");
     let rows = input.len() / 2;
     let wg = shader_kernels::WORKGROUP_SIZE as usize;
     let (gx, gy) = groups_2d(rows.div_ceil(wg) as u32);
     let args = EvalArgs { rows: rows as u32, groups_x: gx };
-    let (out, _) = gpu.dispatch(f.entry, &[bytemuck::bytes_of(&args), bytemuck::cast_slice(&input)], &[OutputSpec::zeroed(rows * 6 * 4)], (gx, gy, 1))?;
-    let got: Vec<f32> = bytemuck::pod_collect_to_vec(&out[0]);
-    Ok(compare(&input, &got))
+    let (out, _) = gpu.dispatch(f.entry, &[bytemuck::bytes_of(&args), bytemuck::cast_slice(input)], &[OutputSpec::zeroed(rows * 6 * 4)], (gx, gy, 1))?;
+    Ok(bytemuck::pod_collect_to_vec(&out[0]))
 }
 
 /// Compare `got` (`arith_probe`'s six outputs per row) with the CPU's results for `input`.

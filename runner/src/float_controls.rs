@@ -9,8 +9,11 @@
 //! * else `shaderDenormFlushToZeroFloat32`: declare `DenormFlushToZero` and set FTZ/DAZ in MXCSR
 //!   on the CPU backend's rayon threads for the rest of the run, so both flush (the software
 //!   `shader_core::ieee` routines then see flushed operands on both sides too).
-//! * else: neither mode can be declared; denormal behaviour is unspecified and the GPU may differ
-//!   from the CPU wherever a denormal appears.
+//! * else: neither mode can be declared, so the backend measures what the driver does
+//!   ([`measure`]: `a + b`, `a - b`, `a * b` on denormal operands and results): all kept, the
+//!   CPU is left alone; all flushed exactly as FTZ/DAZ would (NVIDIA's driver flushes, seen on an
+//!   H200), the CPU backend's threads flush too, as for a declared flush; anything else stays
+//!   unspecified and the GPU may differ from the CPU wherever a denormal appears.
 
 use shader_manifest::DenormMode;
 
@@ -31,8 +34,14 @@ pub enum DenormPolicy {
     Preserve,
     /// `DenormFlushToZero` declared and the CPU backend flushes too (FTZ/DAZ).
     FlushToZero,
-    /// Neither mode supported (or the properties could not be read): unspecified on the GPU.
+    /// Neither mode supported (or the properties could not be read): unspecified on the GPU,
+    /// and the probe found neither behaviour throughout (or has not run).
     Unspecified,
+    /// Neither mode supported; the probe found every denormal kept.
+    MeasuredPreserve,
+    /// Neither mode supported; the probe found every denormal operand and result flushed to a
+    /// zero of its sign, so the CPU backend flushes too (FTZ/DAZ).
+    MeasuredFlush,
 }
 
 /// Read the float-controls properties of a Vulkan adapter through wgpu's hal escape hatch;
@@ -84,14 +93,14 @@ impl DenormPolicy {
         match self {
             DenormPolicy::Preserve => shader_manifest::declare_denorm_mode(words, DenormMode::Preserve),
             DenormPolicy::FlushToZero => shader_manifest::declare_denorm_mode(words, DenormMode::FlushToZero),
-            DenormPolicy::Unspecified => Ok(words.to_vec()),
+            DenormPolicy::Unspecified | DenormPolicy::MeasuredPreserve | DenormPolicy::MeasuredFlush => Ok(words.to_vec()),
         }
     }
 
     /// Make the CPU backend follow the policy: for `FlushToZero`, set FTZ and DAZ on every
     /// thread of rayon's global pool (which runs the CPU kernels) for the rest of the process.
     pub fn apply_to_cpu(self) {
-        if self == DenormPolicy::FlushToZero {
+        if matches!(self, DenormPolicy::FlushToZero | DenormPolicy::MeasuredFlush) {
             rayon::broadcast(|_| flush_denormals_on_this_thread());
         }
     }
@@ -106,6 +115,12 @@ impl DenormPolicy {
             DenormPolicy::Unspecified => {
                 "fp32 denormal behaviour unspecified (device supports neither DenormPreserve nor DenormFlushToZero)"
             }
+            DenormPolicy::MeasuredPreserve => {
+                "fp32 denormals preserved (measured: the device supports neither mode, the probe found every denormal kept)"
+            }
+            DenormPolicy::MeasuredFlush => {
+                "fp32 denormals flushed (measured: the device supports neither mode, the probe found every denormal flushed; the CPU backend flushes too: FTZ/DAZ)"
+            }
         }
     }
 }
@@ -119,10 +134,83 @@ pub fn describe_adapter(adapter: &wgpu::Adapter) -> String {
             f.denorm_flush_to_zero_f32,
             f.signed_zero_inf_nan_preserve_f32,
             f.denorm_independence,
-            DenormPolicy::choose(Some(&f)).describe()
+            match DenormPolicy::choose(Some(&f)) {
+                DenormPolicy::Unspecified => "no mode can be declared; the GPU backend measures what the driver does at start-up (its description says)",
+                p => p.describe(),
+            }
         ),
         None => format!("float controls unavailable (not Vulkan 1.2) -> {}", DenormPolicy::Unspecified.describe()),
     }
+}
+
+/// The (a, b) pairs of the denormal probe, flattened: denormal operands (with a zero, with each
+/// other, with a normal), sums and products that land well inside the denormal range, and one
+/// normal row. No result sits near the smallest normal, where FTZ's tininess rule would matter.
+pub fn denormal_rows() -> Vec<f32> {
+    let tiny = f32::MIN_POSITIVE; // 2^-126
+    vec![
+        f32::from_bits(1), 0.0, // 1e-45 + 0
+        -1e-40, 0.0,
+        1e-38, 1e-38, // two denormals whose sum is normal
+        5e-39, -2e-39,
+        1.5 * tiny, -tiny, // normal operands, denormal sum
+        0.75 * tiny, 3.0,
+        2f32.powi(-63), 2f32.powi(-64), // normal operands, product 2^-127
+        -(2f32.powi(-70)), 2f32.powi(-60), // product -2^-130
+        1.0, 2.0,
+    ]
+}
+
+/// Zero of `x`'s sign where `x` is denormal.
+fn flushed(x: f32) -> f32 {
+    if x.is_subnormal() { 0f32.copysign(x) } else { x }
+}
+
+/// What the adapter did with the probe's rows: `got` holds `arith_probe`'s six outputs per row
+/// (only the sum, difference and product are compared: the division and square root of the
+/// native build are the driver's and have their own probe).
+pub fn classify(input: &[f32], got: &[f32]) -> Result<DenormPolicy, String> {
+    use std::hint::black_box;
+    let rows = input.len() / 2;
+    if got.len() != rows * 6 {
+        return Err(format!("the adapter returned {} values for {rows} rows x 6 outputs", got.len()));
+    }
+    let (mut kept, mut flush) = (true, true);
+    let mut first = None;
+    for (r, pair) in input.chunks_exact(2).enumerate() {
+        let (a, b) = (black_box(pair[0]), black_box(pair[1]));
+        let preserve = [a + b, a - b, a * b];
+        let (fa, fb) = (flushed(a), flushed(b));
+        let flush_to_zero = [flushed(fa + fb), flushed(fa - fb), flushed(fa * fb)];
+        for k in 0..3 {
+            let have = got[r * 6 + k].to_bits();
+            let (is_kept, is_flushed) = (have == preserve[k].to_bits(), have == flush_to_zero[k].to_bits());
+            kept &= is_kept;
+            flush &= is_flushed;
+            if !is_kept && !is_flushed && first.is_none() {
+                first = Some(format!(
+                    "{} with a = {a:e}, b = {b:e}: adapter {:e} ({have:#010x}), kept {:e}, flushed {:e}",
+                    ["a + b", "a - b", "a * b"][k],
+                    f32::from_bits(have),
+                    preserve[k],
+                    flush_to_zero[k]
+                ));
+            }
+        }
+    }
+    match (kept, flush) {
+        (true, _) => Ok(DenormPolicy::MeasuredPreserve),
+        (false, true) => Ok(DenormPolicy::MeasuredFlush),
+        _ => Err(first.unwrap_or_else(|| "some denormals kept, others flushed".into())),
+    }
+}
+
+/// Run the denormal probe (`arith_probe` of the loaded main module over [`denormal_rows`]) and
+/// say what the adapter does; an error describes the first row that fits neither behaviour.
+pub fn measure(gpu: &crate::gpu::GpuContext) -> Result<Result<DenormPolicy, String>, crate::gpu::GpuError> {
+    let input = denormal_rows();
+    let got = crate::div_sqrt_probe::run_rows(gpu, &input)?;
+    Ok(classify(&input, &got))
 }
 
 /// Set MXCSR.FTZ (bit 15) and MXCSR.DAZ (bit 6) on the calling thread.
@@ -153,6 +241,39 @@ mod tests {
         assert_eq!(DenormPolicy::choose(Some(&f(false, true))), DenormPolicy::FlushToZero);
         assert_eq!(DenormPolicy::choose(Some(&f(false, false))), DenormPolicy::Unspecified);
         assert_eq!(DenormPolicy::choose(None), DenormPolicy::Unspecified);
+    }
+
+    /// `arith_probe`'s outputs for `rows` computed with `op` applied to each (a, b).
+    fn outputs(rows: &[f32], op: impl Fn(f32, f32) -> [f32; 3]) -> Vec<f32> {
+        rows.chunks_exact(2).flat_map(|p| {
+            let [s, d, m] = op(p[0], p[1]);
+            [s, d, m, 0.0, 0.0, 0.0]
+        }).collect()
+    }
+
+    #[test]
+    fn probe_tells_kept_from_flushed_from_mixed() {
+        let rows = denormal_rows();
+        assert!(rows.chunks_exact(2).filter(|p| p[0].is_subnormal() || p[1].is_subnormal()).count() >= 4);
+        assert!(rows.chunks_exact(2).filter(|p| (p[0] + p[1]).is_subnormal() || (p[0] * p[1]).is_subnormal()).count() >= 4);
+        let kept = outputs(&rows, |a, b| [a + b, a - b, a * b]);
+        assert_eq!(classify(&rows, &kept), Ok(DenormPolicy::MeasuredPreserve));
+        let ftz_daz = outputs(&rows, |a, b| {
+            let (a, b) = (flushed(a), flushed(b));
+            [flushed(a + b), flushed(a - b), flushed(a * b)]
+        });
+        assert_eq!(classify(&rows, &ftz_daz), Ok(DenormPolicy::MeasuredFlush));
+        // Flushing results but not operands (FTZ without DAZ) is neither.
+        let ftz_only = outputs(&rows, |a, b| [flushed(a + b), flushed(a - b), flushed(a * b)]);
+        assert!(classify(&rows, &ftz_only).is_err());
+        // Flushing to +0 whatever the sign is neither either.
+        let unsigned = outputs(&rows, |a, b| {
+            let f = |x: f32| if x.is_subnormal() { 0.0 } else { x };
+            let (a, b) = (f(a), f(b));
+            [f(a + b), f(a - b), f(a * b)]
+        });
+        assert!(classify(&rows, &unsigned).is_err());
+        assert!(classify(&rows, &kept[..6]).is_err());
     }
 
     #[test]

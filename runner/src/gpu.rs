@@ -161,7 +161,7 @@ impl GpuContext {
         } else {
             None
         };
-        Ok(GpuContext {
+        let mut g = GpuContext {
             device,
             queue,
             info,
@@ -177,7 +177,18 @@ impl GpuContext {
             pipelines: Mutex::new(HashMap::new()),
             uniforms: Mutex::new(uniforms),
             compile_seconds: Mutex::new(HashMap::new()),
-        })
+        };
+        if g.denorm_policy == crate::float_controls::DenormPolicy::Unspecified {
+            // Neither mode can be declared: measure what the driver does (float_controls::measure).
+            match crate::float_controls::measure(&g)? {
+                Ok(p) => {
+                    g.denorm_policy = p;
+                    p.apply_to_cpu();
+                }
+                Err(first) => eprintln!("warning: {}: fp32 denormals neither all kept nor all flushed on the probe rows: {first}", g.info.name),
+            }
+        }
+        Ok(g)
     }
 
     /// [`GpuContext::new`] with the build of the main module `HOST_DIV_SQRT` chooses: `exact`

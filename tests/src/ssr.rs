@@ -49,6 +49,15 @@ pub fn sssr_passes_bit_equal(tag: &str, c: &mut Runner, q: &mut Runner, consts: 
     assert_bits_equal(&format!("{tag} hit records, list = every slot"), HIT_STRIDE, &hits, &c.ray_hits(consts, gbuf, cp, &rays).unwrap());
     let reflection = c.sssr_resolve(consts, gbuf, cp, &rays, &hits, &pixels).unwrap();
     assert_bits_equal(&format!("{tag} resolve"), 4, &reflection, &q.sssr_resolve(consts, gbuf, cp, &rays, &hits, &pixels).unwrap());
+    // A colour pyramid of the wrong size is refused, by name, by every pass that reads it.
+    let short = &cp[..cp.len() - 3];
+    for err in [
+        c.ray_hits(consts, gbuf, short, &rays).unwrap_err(),
+        c.sssr_hits(consts, gbuf, short, &rays, &list).unwrap_err(),
+        c.sssr_resolve(consts, gbuf, short, &rays, &hits, &pixels).unwrap_err(),
+    ] {
+        assert!(err.to_string().contains("colour pyramid has"), "{tag}: {err}");
+    }
     let hit_distance = c.sssr_hit_distance(consts, gbuf, &rays, &hits, &pixels).unwrap();
     assert_bits_equal(&format!("{tag} hit distance"), 1, &hit_distance, &q.sssr_hit_distance(consts, gbuf, &rays, &hits, &pixels).unwrap());
     let hist: Vec<f32> = reflection.chunks_exact(4).flat_map(|c| [c[0] * 0.5, c[1], c[2] * 2.0, c[3], 3.0]).collect();

@@ -53,3 +53,18 @@ fn loaded_build_follows_the_choice() {
         assert!(native_probe.passed(), "llvmpipe's OpFDiv/Sqrt differ from correct rounding: {:?}", native_probe.first);
     }
 }
+
+/// An adapter that can declare neither denormal mode gets its behaviour measured
+/// (`runner::float_controls::measure`) rather than left unspecified: llvmpipe keeps denormals;
+/// a driver that flushes them all (NVIDIA's, seen on an H200) makes the CPU backend flush too.
+#[test]
+fn denormal_behaviour_is_declared_or_measured() {
+    use host::float_controls::DenormPolicy;
+    let Some(b) = gpu_backend() else { return };
+    let g = context(b);
+    eprintln!("{}: {}", g.info.name, g.denorm_policy.describe());
+    assert_ne!(g.denorm_policy, DenormPolicy::Unspecified, "the denormal probe found neither behaviour throughout (see the warning printed at start-up)");
+    if g.info.driver == "llvmpipe" {
+        assert!(matches!(g.denorm_policy, DenormPolicy::Preserve | DenormPolicy::MeasuredPreserve), "llvmpipe: {:?}", g.denorm_policy);
+    }
+}

@@ -407,6 +407,7 @@ impl Runner<'_> {
     pub fn sssr_resolve(&mut self, consts: &SsrParams, gbuf: &[f32], color_pyr: &[f32], rays: &[f32], hits: &[f32], pixels: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
+        ensure_color_pyramid(&p, color_pyr)?;
         ensure_slot_records(&p, "hit", hits, HIT_STRIDE)?;
         self.list_pass::<OUT_STRIDE>("resolve", "ssr::sssr_resolve", pixels.len(), n, &[], consts, &[gbuf, color_pyr, rays, hits, pixels], |k, o| {
             kern::sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, o, false)
