@@ -41,7 +41,8 @@ pub struct GpuContext {
     pub passthrough: bool,
     pub timestamps: bool,
     pub limits: wgpu::Limits,
-    /// fp32 denormal mode declared in the loaded SPIR-V (crate::float_controls).
+    /// fp32 denormal mode: declared in the loaded SPIR-V, or measured where the device can
+    /// declare neither (crate::float_controls).
     pub denorm_policy: crate::float_controls::DenormPolicy,
     /// The main module (handed to the driver one entry point at a time).
     main: KernelModule,
