@@ -42,11 +42,11 @@ const TARGETED: [u32; 9] = [
     OP_MEMBER_DECORATE_STRING,
 ];
 
-/// A function of the module: its instructions (indices into [`EntryPoints::insts`]), the
-/// functions it calls, and the global-section instructions that go with it (its entry point,
-/// execution modes, and the names and decorations of the ids it defines).
+/// A function of the module: its words (OpFunction to OpFunctionEnd), the functions it calls,
+/// and the global-section instructions that go with it (its entry point, execution modes, and
+/// the names and decorations of the ids it defines).
 struct Function {
-    insts: Range<usize>,
+    words: Range<usize>,
     calls: Vec<u32>,
     owns: Vec<usize>,
 }
@@ -54,13 +54,12 @@ struct Function {
 /// A module indexed once, from which [`EntryPoints::module`] cuts each entry point's module.
 pub struct EntryPoints {
     words: Vec<u32>,
-    insts: Vec<(u32, Range<usize>)>,
-    /// Index of the first OpFunction in `insts` (everything before is the global section).
-    first_function: usize,
+    /// The global section's instructions (everything before the first OpFunction).
+    globals: Vec<(u32, Range<usize>)>,
     functions: HashMap<u32, Function>,
     /// Function ids in module order.
     order: Vec<u32>,
-    /// Global-section instructions that every cut keeps (indices into `insts`).
+    /// Global-section instructions that every cut keeps (indices into `globals`).
     shared: Vec<usize>,
     /// Entry point name -> its function id.
     entries: HashMap<String, u32>,
@@ -118,7 +117,7 @@ impl EntryPoints {
                 return Err(format!("SPIR-V: expected OpFunction at word {}, found opcode {op}", r.start));
             }
             let id = words[r.start + 2];
-            let start = i;
+            let start = r.start;
             let mut calls = Vec::new();
             loop {
                 let (op, r) = insts.get(i).ok_or_else(|| format!("SPIR-V: function %{id} has no OpFunctionEnd"))?;
@@ -135,7 +134,7 @@ impl EntryPoints {
                 }
             }
             order.push(id);
-            functions.insert(id, Function { insts: start..i, calls, owns: Vec::new() });
+            functions.insert(id, Function { words: start..insts[i - 1].1.end, calls, owns: Vec::new() });
         }
         let mut shared = Vec::new();
         for (k, (op, r)) in insts[..first_function].iter().enumerate() {
@@ -154,22 +153,19 @@ impl EntryPoints {
                 return Err(format!("SPIR-V: entry point {name:?} names %{id}, which is not a function"));
             }
         }
-        Ok(EntryPoints { words, insts, first_function, functions, order, shared, entries })
+        for (f, function) in &functions {
+            if let Some(c) = function.calls.iter().find(|c| !functions.contains_key(c)) {
+                return Err(format!("SPIR-V: %{f} calls %{c}, which is not a function"));
+            }
+        }
+        let mut insts = insts;
+        insts.truncate(first_function);
+        Ok(EntryPoints { words, globals: insts, functions, order, shared, entries })
     }
 
     /// The entry points' names.
     pub fn names(&self) -> impl Iterator<Item = &str> {
         self.entries.keys().map(|s| s.as_str())
-    }
-
-    /// The whole module's size in words.
-    pub fn len(&self) -> usize {
-        self.words.len()
-    }
-
-    /// Whether the module is empty (never: a module has a header).
-    pub fn is_empty(&self) -> bool {
-        self.words.is_empty()
     }
 
     /// The module of entry point `name` alone: the header (same id bound), the global section
@@ -181,9 +177,6 @@ impl EntryPoints {
         let mut stack = vec![root];
         while let Some(f) = stack.pop() {
             for &c in &self.functions[&f].calls {
-                if !self.functions.contains_key(&c) {
-                    return Err(format!("SPIR-V: %{f} calls %{c}, which is not a function"));
-                }
                 if kept.insert(c) {
                     stack.push(c);
                 }
@@ -199,8 +192,7 @@ impl EntryPoints {
         let mut out = Vec::with_capacity(w.len() / 8);
         out.extend_from_slice(&w[..crate::HEADER_WORDS]);
         for k in global {
-            debug_assert!(k < self.first_function);
-            let (op, r) = &self.insts[k];
+            let (op, r) = &self.globals[k];
             // A kept function that is another entry point's (a kernel calling an entry point)
             // stays a plain function: only `name` is an entry point of the cut.
             if *op != OP_ENTRY_POINT || w[r.start + 2] == root {
@@ -209,9 +201,7 @@ impl EntryPoints {
         }
         for id in &self.order {
             if kept.contains(id) {
-                let f = &self.functions[id];
-                let words = self.insts[f.insts.start].1.start..self.insts[f.insts.end - 1].1.end;
-                out.extend_from_slice(&w[words]);
+                out.extend_from_slice(&w[self.functions[id].words.clone()]);
             }
         }
         Ok(out)
