@@ -98,6 +98,9 @@ pub struct KernelReport {
     pub default_build_why: Option<String>,
     pub rows: u32,
     pub repeats: u32,
+    /// How many functions the run was asked for; `functions` holds fewer while it runs (the
+    /// report is rewritten after every function, so a run cut short leaves what it measured).
+    pub functions_total: usize,
     pub functions: Vec<KernelRow>,
 }
 
@@ -263,6 +266,32 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    let total = selected.len();
+    let adapter = gpu.as_ref().map(|g| g.describe());
+    let default_build_why = default_build.as_ref().map(|b| b.1.clone());
+    let default_build = default_build.map(|b| b.0);
+    // Rewritten after every function, so a run that is stopped (a device call's time limit)
+    // leaves a report of what it measured, marked partial.
+    let write = |functions: &[KernelRow]| -> Result<String> {
+        let report = KernelReport {
+            command: crate::report::command_line(),
+            cpu: cpu_model(),
+            cpu_threads: crate::cpu::threads(),
+            load_average_start: load_start.clone(),
+            load_average_end: load_average(),
+            adapter: adapter.clone(),
+            default_build: default_build.clone(),
+            default_build_why: default_build_why.clone(),
+            rows: a.rows,
+            repeats: a.repeats,
+            functions_total: total,
+            functions: functions.to_vec(),
+        };
+        let md = markdown(&report);
+        crate::io::write_file(&a.output, &md)?;
+        crate::io::write_file(&json_path, serde_json::to_string_pretty(&report)?)?;
+        Ok(md)
+    };
     let mut out = Vec::new();
     for f in selected {
         pb.set_message(f.name);
@@ -309,28 +338,11 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
             }
         }
         out.push(row);
+        write(&out)?;
         pb.inc(1);
     }
     pb.finish_and_clear();
-    let report = KernelReport {
-        command: crate::report::command_line(),
-        cpu: cpu_model(),
-        cpu_threads: crate::cpu::threads(),
-        load_average_start: load_start,
-        load_average_end: load_average(),
-        adapter: match &gpu {
-            Some(g) => Some(g.describe()),
-            None => None,
-        },
-        default_build: default_build.as_ref().map(|b| b.0.clone()),
-        default_build_why: default_build.map(|b| b.1),
-        rows: a.rows,
-        repeats: a.repeats,
-        functions: out,
-    };
-    let md = markdown(&report);
-    crate::io::write_file(&a.output, &md)?;
-    crate::io::write_file(&json_path, serde_json::to_string_pretty(&report)?)?;
+    let md = write(&out)?;
     eprint!("{md}");
     eprintln!("wrote {} and {}", a.output.display(), json_path.display());
     Ok(())
@@ -344,6 +356,9 @@ fn rate(v: Option<f64>) -> String {
 pub fn markdown(r: &KernelReport) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "Command: `{}`\n", r.command);
+    if r.functions.len() < r.functions_total {
+        let _ = writeln!(s, "**Partial report**: {} of {} functions measured so far (the run was stopped or is still running).\n", r.functions.len(), r.functions_total);
+    }
     let _ = writeln!(
         s,
         "Machine: {} ({} threads), load average {} at the start, {} at the end; {}; {} rows per run, best of {} runs.\n",

@@ -207,7 +207,7 @@ impl Backend {
                 let mut a = args;
                 let (gx, _) = groups_2d(count.div_ceil(wg) as u32);
                 a.set_launch(count as u32, gx, 0);
-                out.par_chunks_mut(stride.max(1)).enumerate().for_each(|(i, o)| cpu(&a, i as u32, o));
+                crate::cpu::on_backend_threads(|| out.par_chunks_mut(stride.max(1)).enumerate().for_each(|(i, o)| cpu(&a, i as u32, o)));
                 Ok((out, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock }))
             }
             Backend::Gpu(g) => {

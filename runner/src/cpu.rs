@@ -8,6 +8,19 @@ use shader_kernels::eval::FunctionInfo;
 /// small enough to balance the cores.
 const ROWS_PER_CHUNK: usize = 4096;
 
+/// Run `op` on a thread of rayon's global pool, the CPU backend's threads, whose floating-point
+/// controls follow the GPU's denormal behaviour (`float_controls::DenormPolicy::apply_to_cpu`:
+/// FTZ/DAZ on a device that flushes). A parallel iterator with one item runs on the calling
+/// thread, which may not have those controls: the CPU launchers go through here.
+pub fn on_backend_threads<R: Send>(op: impl FnOnce() -> R + Send) -> R {
+    if rayon::current_thread_index().is_some() {
+        op()
+    } else {
+        // `rayon::scope` runs its body on a worker thread of the current (here: global) pool.
+        rayon::scope(|_| op())
+    }
+}
+
 /// Evaluate `f` over `rows` rows with its batch loop, chunks of rows spread over all cores.
 pub fn eval_table(f: &FunctionInfo, input: &[f32], rows: usize) -> Vec<f32> {
     let mut out = vec![0.0f32; rows * f.outputs.len()];
@@ -25,10 +38,12 @@ pub fn eval_table_into(f: &FunctionInfo, input: &[f32], rows: usize, out: &mut [
     if no == 0 || rows == 0 {
         return;
     }
-    out.par_chunks_mut(ROWS_PER_CHUNK * no).enumerate().for_each(|(k, y)| {
-        let r0 = k * ROWS_PER_CHUNK;
-        let n = y.len() / no;
-        (f.cpu_rows)(&input[r0 * ni..(r0 + n) * ni], y)
+    on_backend_threads(|| {
+        out.par_chunks_mut(ROWS_PER_CHUNK * no).enumerate().for_each(|(k, y)| {
+            let r0 = k * ROWS_PER_CHUNK;
+            let n = y.len() / no;
+            (f.cpu_rows)(&input[r0 * ni..(r0 + n) * ni], y)
+        })
     });
 }
 

@@ -16,6 +16,11 @@
 //! rounding midpoint; finally scale by the exponent with one rounding (denormal results rounded
 //! once, gradual underflow; overflow to infinity).
 //!
+//! Denormals follow the floating-point environment: kept where it keeps them; where it flushes
+//! them (a GPU measured to flush, and then the CPU backend's threads with FTZ/DAZ set), a denormal
+//! operand reads as a zero of its sign and a denormal quotient flushes to zero, as `divss` and
+//! `sqrtss` do under FTZ/DAZ (checked on the CPU under those controls by this module's tests).
+//!
 //! Special values reproduce x86-64 SSE (`divss`, `sqrtss`) bit for bit, so the CPU results are
 //! the same as the native operators: a NaN operand is returned quieted (the first one for `div`),
 //! an invalid operation (0/0, inf/inf, sqrt of a negative number) gives the default NaN
@@ -111,6 +116,21 @@ fn unpack(abs_bits: u32) -> (f32, i32) {
     (f32::from_bits((bits & MANT_MASK) | ONE_BITS), e)
 }
 
+/// A magnitude (bits without sign) as the floating-point environment reads it: a denormal is
+/// read as zero where the environment flushes denormals (DAZ: a device that flushes them, and the
+/// CPU backend's threads then, which set FTZ/DAZ), else kept. Found by one multiplication by 2^24,
+/// exact where denormals are kept; so the software routines treat a denormal operand as the
+/// hardware `divss`/`sqrtss` do under the same controls, and their denormal results, made by a
+/// multiplication in [`scale_rounded`], flush as the hardware's do (x86: tininess after rounding).
+#[inline]
+fn env_magnitude(abs_bits: u32) -> u32 {
+    if abs_bits < MIN_NORMAL_BITS && (f32::from_bits(abs_bits) * pow2i(24)).to_bits() == 0 {
+        0
+    } else {
+        abs_bits
+    }
+}
+
 /// The NaN x86 returns for a NaN operand: the operand with its quiet bit set.
 #[inline]
 fn quiet(bits: u32) -> f32 {
@@ -167,13 +187,17 @@ pub fn sqrt(x: f32) -> f32 {
     if SOFT { sqrt_soft(x) } else { native_sqrt(x) }
 }
 
-/// [`div`] by the software routine, on every target.
-#[inline]
+/// [`div`] by the software routine, on every target. Not inlined: rust-gpu inlines every
+/// `#[inline]` function at each call site, which gave every division in a kernel its own ~200
+/// instructions (the path tracer's entry point was 650 k instructions) and the drivers that much
+/// more to compile; one function per module instead (the CPU calls it only in tests and probes).
+#[inline(never)]
 pub fn div_soft(a: f32, b: f32) -> f32 {
     let (ua, ub) = (a.to_bits(), b.to_bits());
     let sign = (ua ^ ub) & SIGN_MASK;
-    let (aa, ab) = (ua & ABS_MASK, ub & ABS_MASK);
-    // Zero, infinite or NaN operands (denormals go on to the general path).
+    let (aa, ab) = (env_magnitude(ua & ABS_MASK), env_magnitude(ub & ABS_MASK));
+    // Zero (a flushed denormal included), infinite or NaN operands (kept denormals go on to the
+    // general path).
     if aa == 0 || ab == 0 || aa >= INF_BITS || ab >= INF_BITS {
         if aa > INF_BITS {
             return quiet(ua);
@@ -224,16 +248,19 @@ pub fn div_soft(a: f32, b: f32) -> f32 {
     f32::from_bits(m.to_bits() | sign)
 }
 
-/// [`sqrt`] by the software routine, on every target.
-#[inline]
+/// [`sqrt`] by the software routine, on every target. Not inlined, as [`div_soft`].
+#[inline(never)]
 pub fn sqrt_soft(x: f32) -> f32 {
     let ux = x.to_bits();
-    let ax = ux & ABS_MASK;
+    let ax = env_magnitude(ux & ABS_MASK);
     if ax == 0 || ux >= INF_BITS {
         if ax > INF_BITS {
             return quiet(ux);
         }
-        if ax == 0 || ux == INF_BITS {
+        if ax == 0 {
+            return f32::from_bits(ux & SIGN_MASK); // a zero, or a denormal the environment flushed
+        }
+        if ux == INF_BITS {
             return x;
         }
         return f32::from_bits(DEFAULT_NAN_BITS); // x < 0
@@ -338,5 +365,57 @@ mod tests {
                 check_div(a * pow2i(100), b * pow2i(-30));
             }
         }
+    }
+
+    /// Under FTZ/DAZ (set on this test's own thread) the software routines give the bits of
+    /// `divss`/`sqrtss` under the same controls: denormal operands read as signed zeros, denormal
+    /// quotients flush to zero. This is what a GPU that flushes denormals runs against a CPU
+    /// backend whose threads flush too.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn soft_routines_follow_ftz_daz_like_the_hardware() {
+        std::thread::spawn(|| {
+            // SAFETY: changes only this thread's SSE denormal controls (MXCSR.FTZ, MXCSR.DAZ).
+            unsafe {
+                let mut csr: u32 = 0;
+                core::arch::asm!("stmxcsr [{}]", in(reg) &mut csr, options(nostack));
+                csr |= (1 << 15) | (1 << 6);
+                core::arch::asm!("ldmxcsr [{}]", in(reg) &csr, options(nostack));
+            }
+            assert_eq!(native_div(f32::from_bits(1), 1.0).to_bits(), 0, "FTZ/DAZ not in effect");
+            let mut vals = std::vec::Vec::new();
+            for bits in [0u32, 1, 2, 0x0000_1234, 0x003f_ffff, 0x0040_0000, 0x007f_ffff, 0x0080_0000, 0x0080_0001, 0x3f80_0000, 0x3fc0_0000, 0x4b80_0000, 0x7f7f_ffff, 0x7f80_0000, 0x7fc0_0000] {
+                vals.push(f32::from_bits(bits));
+                vals.push(f32::from_bits(bits | SIGN_MASK));
+            }
+            for &a in &vals {
+                for &b in &vals {
+                    check_div(a, b);
+                }
+                assert_eq!(sqrt_soft(a).to_bits(), native_sqrt(black_box(a)).to_bits(), "sqrt {:#x}", a.to_bits());
+            }
+            // Quotients around the bottom of the normal range (tiny before or after rounding,
+            // ties on the denormal grid), and denormal operands of every magnitude.
+            let mut x = 0x2545_f491_4f6c_dd1du64;
+            let mut next = || {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                x as u32
+            };
+            for _ in 0..200_000 {
+                let (r1, r2) = (next(), next());
+                let a = f32::from_bits(0x3f80_0000 | (r1 & MANT_MASK) | (r1 & SIGN_MASK));
+                // b in [2^125, 2^128): a / b lands in [2^-128, 2^-124]
+                let b = f32::from_bits(((252 + (r2 >> 30) % 3) << 23) | (r2 & MANT_MASK));
+                check_div(a, b);
+                check_div(f32::from_bits(r1 & 0x807f_ffff), f32::from_bits(r2 & 0x7fff_ffff));
+                check_div(f32::from_bits(r2 & 0x7fff_ffff), f32::from_bits(r1 & 0x807f_ffff));
+                let d = f32::from_bits(r1 & 0x807f_ffff);
+                assert_eq!(sqrt_soft(d).to_bits(), native_sqrt(black_box(d)).to_bits(), "sqrt {:#x}", d.to_bits());
+            }
+        })
+        .join()
+        .unwrap();
     }
 }

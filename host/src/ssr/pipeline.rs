@@ -416,9 +416,9 @@ impl<'a> Runner<'a> {
         }
     }
 
-    pub(crate) fn cpu_timed<T>(&mut self, name: &str, f: impl FnOnce() -> T) -> T {
+    pub(crate) fn cpu_timed<T: Send>(&mut self, name: &str, f: impl FnOnce() -> T + Send) -> T {
         let t0 = Instant::now();
-        let r = f();
+        let r = runner::cpu::on_backend_threads(f);
         self.record(name, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock });
         r
     }
