@@ -1,6 +1,6 @@
 //! One entry point's SPIR-V module cut out of a module holding many (SPIR-V 1.6 spec, 2.4 "Logical
-//! Layout of a Module"): every global, the functions the entry point calls, and only their names
-//! and decorations.
+//! Layout of a Module"): the functions the entry point calls, the globals (types, constants,
+//! variables) they refer to, and only their names and decorations; the source text is left out.
 //!
 //! A Vulkan driver reads the whole module it is given for every pipeline it creates (Mesa's
 //! `spirv_to_nir` parses every function before it drops the unused ones), so with one module of
@@ -13,6 +13,8 @@ use std::ops::Range;
 
 use crate::{instructions, spirv_string};
 
+const OP_SOURCE_CONTINUED: u32 = 2;
+const OP_SOURCE: u32 = 3;
 const OP_NAME: u32 = 5;
 const OP_MEMBER_NAME: u32 = 6;
 const OP_ENTRY_POINT: u32 = 15;
@@ -59,8 +61,13 @@ pub struct EntryPoints {
     functions: HashMap<u32, Function>,
     /// Function ids in module order.
     order: Vec<u32>,
-    /// Global-section instructions that every cut keeps (indices into `globals`).
+    /// Global-section instructions not owned by a function (indices into `globals`): kept by a
+    /// cut if they define an id the cut refers to, name or decorate one, or define nothing.
     shared: Vec<usize>,
+    /// Per global-section instruction: the id it defines (types, constants, variables, ...).
+    global_result: Vec<Option<u32>>,
+    /// Per global-section instruction: the global id it names or decorates, if it does.
+    global_target: Vec<Option<u32>>,
     /// Entry point name -> its function id.
     entries: HashMap<String, u32>,
 }
@@ -137,15 +144,31 @@ impl EntryPoints {
             functions.insert(id, Function { words: start..insts[i - 1].1.end, calls, owns: Vec::new() });
         }
         let mut shared = Vec::new();
+        let mut global_result = Vec::with_capacity(first_function);
+        let mut global_target = Vec::with_capacity(first_function);
         for (k, (op, r)) in insts[..first_function].iter().enumerate() {
             let target = match *op {
                 OP_ENTRY_POINT if r.len() >= 3 => Some(words[r.start + 2]),
                 op if TARGETED.contains(&op) && r.len() >= 2 => Some(words[r.start + 1]),
                 _ => None,
             };
+            let result = match result_offset(*op, &mut cache)? {
+                Some(o) if o < r.len() => Some(words[r.start + o]),
+                _ => None,
+            };
+            if result.is_some_and(|d| d as usize >= bound) {
+                return Err(format!("SPIR-V: id %{} is not below the header's bound {bound}", result.unwrap_or(0)));
+            }
+            global_result.push(result);
             match target.and_then(|t| defined_in.get(t as usize)).filter(|&&f| f != 0) {
-                Some(f) => functions.get_mut(f).ok_or_else(|| format!("SPIR-V: %{f} is not a function"))?.owns.push(k),
-                None => shared.push(k),
+                Some(f) => {
+                    functions.get_mut(f).ok_or_else(|| format!("SPIR-V: %{f} is not a function"))?.owns.push(k);
+                    global_target.push(None);
+                }
+                None => {
+                    shared.push(k);
+                    global_target.push(target);
+                }
             }
         }
         for (name, id) in &entries {
@@ -160,7 +183,7 @@ impl EntryPoints {
         }
         let mut insts = insts;
         insts.truncate(first_function);
-        Ok(EntryPoints { words, globals: insts, functions, order, shared, entries })
+        Ok(EntryPoints { words, globals: insts, functions, order, shared, global_result, global_target, entries })
     }
 
     /// The entry points' names.
@@ -169,8 +192,9 @@ impl EntryPoints {
     }
 
     /// The module of entry point `name` alone: the header (same id bound), the global section
-    /// without the other entry points and without names, decorations and execution modes of ids
-    /// defined in functions it does not call, then the functions it calls, in module order.
+    /// without the other entry points, without the globals its code does not refer to, and
+    /// without names, decorations and execution modes of what is left out, then the functions
+    /// it calls, in module order.
     pub fn module(&self, name: &str) -> Result<Vec<u32>, String> {
         let &root = self.entries.get(name).ok_or_else(|| format!("SPIR-V module has no entry point {name:?}"))?;
         let mut kept = HashSet::from([root]);
@@ -182,13 +206,76 @@ impl EntryPoints {
                 }
             }
         }
+        let w = &self.words;
+        let bound = w[3] as usize;
+        // The ids the cut refers to. Every operand word of a kept instruction counts as a
+        // reference: a literal that happens to equal a global's id keeps that global too
+        // (harmless), and nothing referred to is ever left out.
+        let mut needed = vec![false; bound];
+        let mark = |needed: &mut Vec<bool>, operands: &[u32]| {
+            for &x in operands {
+                if let Some(n) = needed.get_mut(x as usize) {
+                    *n = true;
+                }
+            }
+        };
+        for f in &kept {
+            let r = self.functions[f].words.clone();
+            let mut i = r.start;
+            while i < r.end {
+                let n = (w[i] >> 16) as usize;
+                mark(&mut needed, &w[i + 1..i + n]);
+                i += n.max(1);
+            }
+            for &k in &self.functions[f].owns {
+                let r = &self.globals[k].1;
+                mark(&mut needed, &w[r.start + 1..r.end]);
+            }
+        }
+        // The source text (OpSource, OpSourceContinued: no semantic impact, and in rust-gpu's
+        // output the crate's whole source, 0.2 M words that every cut would carry) is left out.
+        let source = |k: usize| matches!(self.globals[k].0, OP_SOURCE | OP_SOURCE_CONTINUED);
+        for &k in &self.shared {
+            if self.global_result[k].is_none() && self.global_target[k].is_none() && !source(k) {
+                let r = &self.globals[k].1;
+                mark(&mut needed, &w[r.start + 1..r.end]); // capabilities, memory model, ...
+            }
+        }
+        // Close over the global section: a global refers only to ids defined before it (types
+        // before the constants and variables of those types), so one backward pass adds what
+        // the needed globals need; the names and decorations of needed ids can refer to ids
+        // too (OpDecorateId), hence the loop.
+        loop {
+            for k in (0..self.globals.len()).rev() {
+                if let Some(d) = self.global_result[k] {
+                    if needed[d as usize] {
+                        let r = &self.globals[k].1;
+                        mark(&mut needed, &w[r.start + 1..r.end]);
+                    }
+                }
+            }
+            let before = needed.iter().filter(|&&n| n).count();
+            for &k in &self.shared {
+                if self.global_target[k].is_some_and(|t| needed.get(t as usize) == Some(&true)) {
+                    let r = &self.globals[k].1;
+                    mark(&mut needed, &w[r.start + 1..r.end]);
+                }
+            }
+            if needed.iter().filter(|&&n| n).count() == before {
+                break;
+            }
+        }
+        let keep_shared = |k: usize| match (self.global_result[k], self.global_target[k]) {
+            (Some(d), _) => needed[d as usize],
+            (None, Some(t)) => needed.get(t as usize) == Some(&true),
+            (None, None) => !source(k),
+        };
         // The global section in module order (its layout is ordered: names, then decorations, ...).
-        let mut global = self.shared.clone();
+        let mut global: Vec<usize> = self.shared.iter().copied().filter(|&k| keep_shared(k)).collect();
         for f in &kept {
             global.extend_from_slice(&self.functions[f].owns);
         }
         global.sort_unstable();
-        let w = &self.words;
         let mut out = Vec::with_capacity(w.len() / 8);
         out.extend_from_slice(&w[..crate::HEADER_WORDS]);
         for k in global {
@@ -225,11 +312,13 @@ mod tests {
     }
 
     /// Two entry points (%10 "a", %20 "b"); both call %30; "a" also calls %40. %2 void, %3
-    /// fn type, %4 float, %5 a float constant.
+    /// fn type, %4 float, %5 a float constant used by all, %6 one used by %40 only, %7 an
+    /// integer type used by nothing (named and decorated).
     fn module() -> Vec<u32> {
         let mut w = vec![0x0723_0203, 0x0001_0500, 0, 100, 0];
         w.extend(inst(17, &[1])); // OpCapability Shader
         w.extend(inst(14, &[0, 1])); // OpMemoryModel
+        w.extend(inst(OP_SOURCE, &[[0, 1].as_slice(), &name("fn a() {}")].concat())); // dropped
         w.extend(inst(OP_ENTRY_POINT, &[[5].as_slice(), &[10], &name("a")].concat()));
         w.extend(inst(OP_ENTRY_POINT, &[[5].as_slice(), &[20], &name("b")].concat()));
         w.extend(inst(OP_EXECUTION_MODE, &[10, 17, 64, 1, 1]));
@@ -240,12 +329,17 @@ mod tests {
         w.extend(inst(OP_DECORATE, &[41, 42])); // NoContraction on a result inside %40
         w.extend(inst(OP_DECORATE, &[21, 42])); // NoContraction on a result inside %20
         w.extend(inst(OP_DECORATE, &[31, 42])); // NoContraction on a result inside %30
-        w.extend(inst(OP_DECORATE, &[4, 0])); // a decoration on a global id is always kept
+        w.extend(inst(OP_NAME, &[[6].as_slice(), &name("two")].concat()));
+        w.extend(inst(OP_NAME, &[[7].as_slice(), &name("unused")].concat()));
+        w.extend(inst(OP_DECORATE, &[4, 0])); // a decoration on a global id the code uses: kept
+        w.extend(inst(OP_DECORATE, &[7, 0])); // one on a global id nothing uses: dropped
         w.extend(inst(19, &[2])); // OpTypeVoid %2
         w.extend(inst(33, &[3, 2])); // OpTypeFunction %3 %2
         w.extend(inst(22, &[4, 32])); // OpTypeFloat %4 32
+        w.extend(inst(21, &[7, 32, 0])); // OpTypeInt %7 32 0
         w.extend(inst(43, &[4, 5, 0x3f80_0000])); // OpConstant %4 %5 1.0
-        for (f, body) in [(30u32, vec![inst(129, &[4, 31, 5, 5])]), (40, vec![inst(129, &[4, 41, 5, 5])])] {
+        w.extend(inst(43, &[4, 6, 0x4000_0000])); // OpConstant %4 %6 2.0
+        for (f, body) in [(30u32, vec![inst(129, &[4, 31, 5, 5])]), (40, vec![inst(129, &[4, 41, 6, 6])])] {
             w.extend(inst(OP_FUNCTION, &[2, f, 0, 3]));
             w.extend(inst(248, &[f + 5])); // OpLabel
             for b in body {
@@ -296,7 +390,16 @@ mod tests {
         let modes: Vec<u32> = ops(&b).into_iter().filter(|(op, _)| *op == OP_EXECUTION_MODE).map(|(_, o)| o[0]).collect();
         assert_eq!(modes, [20]);
         let named: Vec<u32> = ops(&b).into_iter().filter(|(op, _)| *op == OP_NAME).map(|(_, o)| o[0]).collect();
-        assert_eq!(named, [20], "the names of a's functions go with them");
+        assert_eq!(named, [20], "the names of a's functions and constants go with them");
+        // Globals: what the kept code refers to (and what those refer to), nothing else.
+        let defined = |m: &[u32]| -> Vec<u32> {
+            ops(m).into_iter().filter(|(op, _)| [19, 33, 22, 21, 43].contains(op)).map(|(op, o)| if op == 43 { o[1] } else { o[0] }).collect()
+        };
+        assert_eq!(defined(&a), [2, 3, 4, 5, 6]);
+        assert_eq!(defined(&b), [2, 3, 4, 5], "%6 is used by a's %40 only, %7 by nothing");
+        let a_named: Vec<u32> = ops(&a).into_iter().filter(|(op, _)| *op == OP_NAME).map(|(_, o)| o[0]).collect();
+        assert_eq!(a_named, [10, 40, 6]);
+        assert!(ops(&a).iter().all(|(op, _)| *op != OP_SOURCE), "the source text is left out");
         // Header and globals are copied unchanged; kept instructions are word-for-word copies.
         assert_eq!(b[..5], module()[..5]);
         assert!(b.len() < module().len());
