@@ -56,6 +56,22 @@ pub fn threads() -> usize {
 mod tests {
     use super::*;
 
+    /// The CPU launchers' work runs on the pool's threads (whose FTZ/DAZ follow the GPU), also
+    /// when called from another thread and when the loop has a single item.
+    #[test]
+    fn launchers_run_on_the_pool_threads() {
+        assert!(rayon::current_thread_index().is_none(), "the test harness's thread is not a pool thread");
+        assert!(on_backend_threads(rayon::current_thread_index).is_some());
+        let one_item = on_backend_threads(|| {
+            let mut seen = vec![None; 1];
+            seen.par_iter_mut().for_each(|s| *s = Some(rayon::current_thread_index()));
+            seen[0].flatten()
+        });
+        assert!(one_item.is_some());
+        // Nested: already on a pool thread, the work stays there.
+        assert!(rayon::scope(|_| on_backend_threads(|| rayon::current_thread_index().is_some())));
+    }
+
     /// Every function's batch loop writes every output: evaluating into a buffer full of a stale
     /// NaN pattern gives the bits of a fresh evaluation, for chunk-sized and ragged row counts.
     #[test]
