@@ -23,14 +23,17 @@ log="$OUT/run.log"
 : >"$log"
 say() { echo "$*" | tee -a "$log"; }
 start=$(date +%s)
-# limit SECONDS: SECONDS, or what is left of GPU_RUN_BUDGET (less 10 s to pack) if that is less.
-limit() {
-    local want=$1
+# room SECONDS LABEL: sets secs to SECONDS, or to what is left of GPU_RUN_BUDGET (less 10 s to
+# pack) if that is less; under 15 s it logs LABEL as skipped and fails.
+room() {
+    secs=$1
     if [ -n "${GPU_RUN_BUDGET:-}" ]; then
         local left=$(( GPU_RUN_BUDGET - ($(date +%s) - start) - 10 ))
-        [ "$left" -lt "$want" ] && want=$left
+        [ "$left" -lt "$secs" ] && secs=$left
     fi
-    echo "$want"
+    [ "$secs" -ge 15 ] && return 0
+    say "== $2: SKIPPED, GPU_RUN_BUDGET spent"
+    return 1
 }
 
 # The Vulkan loader: the device machine starts bare (see the device tool's README for .gl/).
@@ -87,12 +90,7 @@ for t in "$bin"/test-*; do
     for f in ${ordered:-"-"}; do
         filter=()
         [ "$f" != "-" ] && filter=("$f::")
-        secs=$(limit "${GPU_RUN_TEST_TIMEOUT:-120}")
-        if [ "$secs" -lt 15 ]; then
-            say "== $name ${filter[*]:-(all)}: SKIPPED, GPU_RUN_BUDGET spent"
-            failed=1
-            continue
-        fi
+        room "${GPU_RUN_TEST_TIMEOUT:-120}" "$name ${filter[*]:-(all)}" || { failed=1; continue; }
         say "== $name ${filter[*]:-(all)} (CI=true: a comparison that cannot run fails; limit $secs s)"
         t0=$(date +%s)
         CI=true timeout "$secs" "$t" "${filter[@]}" 2>&1 | tee -a "$log"
@@ -108,8 +106,7 @@ done
 for t in "$bin"/test-*; do
     say "== $(basename "$t") foundation + math_crosscheck with HOST_DIV_SQRT=native (informational: does the driver's division match the CPU's bits?)"
     for filter in foundation:: math_crosscheck::; do
-        secs=$(limit 120)
-        [ "$secs" -lt 15 ] && { say "== $filter native: SKIPPED, GPU_RUN_BUDGET spent"; continue; }
+        room 120 "$filter native" || continue
         HOST_DIV_SQRT=native CI=true timeout "$secs" "$t" "$filter" 2>&1 | tee -a "$log"
         say "== $filter native: exit ${PIPESTATUS[0]} (not counted)"
     done
@@ -117,12 +114,8 @@ done
 
 step() { # step NAME SECONDS host-arguments...: one benchmark, its time, its exit status
     local name=$1 secs
-    secs=$(limit "$2")
+    room "$2" "$name" || return 0
     shift 2
-    if [ "$secs" -lt 15 ]; then
-        say "== $name: SKIPPED, GPU_RUN_BUDGET spent"
-        return
-    fi
     say "== $name (limit $secs s): host $*"
     local t0
     t0=$(date +%s)
@@ -131,7 +124,8 @@ step() { # step NAME SECONDS host-arguments...: one benchmark, its time, its exi
     pack
 }
 if [ "${GPU_RUN_QUICK:-0}" != 1 ]; then
-    # Most wanted first: the kernel rates and the path tracer had no GPU figures yet.
+    # The kernel rates and the path tracer first: on a real GPU their pipelines take longest to
+    # create (the exact build's), so a short budget should not leave them last.
     step "bench kernels" 200 bench kernels --device gpu --rows 1048576 --repeats 3 --output "$rep/kernel-rates.md"
     step "bench render" 120 bench render --device gpu --report "$rep/render-bench.md"
     step "ssr passes 1920x1080" 150 ssr passes --devices gpu,cpu --rounds 3 \

@@ -119,13 +119,14 @@ pub fn run_rows(gpu: &GpuContext, input: &[f32]) -> Result<Vec<f32>, GpuError> {
 }
 
 /// Compare `got` (`arith_probe`'s six outputs per row) with the CPU's results for `input`,
-/// computed on the CPU backend's threads (rayon's pool): where the GPU backend made them flush
-/// denormals (`float_controls`: a device that flushes), the expectation is the flushed one.
+/// computed on the CPU backend's threads ([`crate::cpu::on_backend_threads`]): where the GPU
+/// backend made them flush denormals (`float_controls`: a device that flushes), the expectation
+/// is the flushed one.
 pub fn compare(input: &[f32], got: &[f32]) -> ProbeReport {
     use rayon::prelude::*;
     let names = ["a + b", "a - b", "a * b", "a / b", "sqrt(a)", "1 / sqrt(a)"];
     let rows = input.len() / 2;
-    let expected: Vec<[f32; 6]> = input.par_chunks_exact(2).map(|p| expected(p[0], p[1])).collect();
+    let expected: Vec<[f32; 6]> = crate::cpu::on_backend_threads(|| input.par_chunks_exact(2).map(|p| expected(p[0], p[1])).collect());
     let mut report = ProbeReport { rows, ..Default::default() };
     if got.len() != rows * 6 {
         report.differing = rows;

@@ -212,12 +212,16 @@ impl EntryPoints {
         // reference: a literal that happens to equal a global's id keeps that global too
         // (harmless), and nothing referred to is ever left out.
         let mut needed = vec![false; bound];
+        // Marks the ids among `operands`; true if one was not marked before.
         let mark = |needed: &mut Vec<bool>, operands: &[u32]| {
+            let mut grew = false;
             for &x in operands {
                 if let Some(n) = needed.get_mut(x as usize) {
+                    grew |= !*n;
                     *n = true;
                 }
             }
+            grew
         };
         for f in &kept {
             let r = self.functions[f].words.clone();
@@ -254,14 +258,14 @@ impl EntryPoints {
                     }
                 }
             }
-            let before = needed.iter().filter(|&&n| n).count();
+            let mut grew = false;
             for &k in &self.shared {
                 if self.global_target[k].is_some_and(|t| needed.get(t as usize) == Some(&true)) {
                     let r = &self.globals[k].1;
-                    mark(&mut needed, &w[r.start + 1..r.end]);
+                    grew |= mark(&mut needed, &w[r.start + 1..r.end]);
                 }
             }
-            if needed.iter().filter(|&&n| n).count() == before {
+            if !grew {
                 break;
             }
         }
