@@ -299,9 +299,14 @@ pub struct PrecomputeTimes {
 
 /// Precompute the tables on `backend`, `progress` showing a bar over the chunks.
 pub fn precompute(backend: &Backend, spec: &TableSpec, progress: bool) -> Result<(Tables, PrecomputeTimes)> {
+    precompute_in_launches_of(backend, spec, progress, TABLE_INVOCATIONS_PER_LAUNCH)
+}
+
+/// [`precompute`] with launches of whole chunks of about `invocations` invocations (at least one
+/// chunk each).
+fn precompute_in_launches_of(backend: &Backend, spec: &TableSpec, progress: bool, invocations: usize) -> Result<(Tables, PrecomputeTimes)> {
     spec.validate()?;
     let t0 = Instant::now();
-    let cells = spec.n_mu as usize * spec.n_r as usize;
     let chunks = |s: u32| s.div_ceil(spec.chunk) as u64;
     let pb = if progress {
         let pb = indicatif::ProgressBar::new(chunks(spec.samples) + chunks(spec.avg_samples));
@@ -315,46 +320,20 @@ pub fn precompute(backend: &Backend, spec: &TableSpec, progress: bool) -> Result
         indicatif::ProgressBar::hidden()
     };
     pb.set_message("E, E'");
-    let mut sum_e = vec![0.0f64; cells];
-    let mut sum_ep = vec![0.0f64; cells];
-    let mut t_table: Option<Timing> = None;
-    let mut start = 0u32;
-    while start < spec.samples {
-        let count = spec.chunk.min(spec.samples - start);
-        let args = kern::AlbedoTableArgs { n_mu: spec.n_mu, n_r: spec.n_r, start, count, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
-        let (out, t) = backend
-            .launch("energy::energy_albedo_table", args, &[], cells, kern::TABLE_STRIDE, |a, i, out| {
-                kern::albedo_table_cell(0, &kern::AlbedoTableArgs { first: a.first + i, ..*a }, out)
-            })
-            .with_context(|| format!("E table, samples {start}..{}", start + count))?;
-        for c in 0..cells {
-            sum_e[c] += f64::from(out[2 * c]);
-            sum_ep[c] += f64::from(out[2 * c + 1]);
-        }
-        t_table = Some(match t_table { Some(a) => a.add(t), None => t });
-        start += count;
-        pb.inc(1);
-    }
+    let cells = spec.n_mu as usize * spec.n_r as usize;
+    let (mut sum_e, mut sum_ep) = (vec![0.0f64; cells], vec![0.0f64; cells]);
+    let table = |s: kern::SampleChunks| kern::AlbedoTableArgs { n_mu: spec.n_mu, n_r: spec.n_r, s, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
+    let t_table = chunked_sums(backend, table, cells, spec.samples, spec.chunk, invocations, &pb, |out, c| {
+        sum_e[c] += f64::from(out[kern::TABLE_STRIDE * c]);
+        sum_ep[c] += f64::from(out[kern::TABLE_STRIDE * c + 1]);
+    })
+    .context("E table")?;
     pb.set_message("E_avg");
     let n_avg = spec.n_avg as usize;
     let mut sum_avg = vec![0.0f64; n_avg];
-    let mut t_avg: Option<Timing> = None;
-    let mut start = 0u32;
-    while start < spec.avg_samples {
-        let count = spec.chunk.min(spec.avg_samples - start);
-        let args = kern::AlbedoAvgArgs { n_avg: spec.n_avg, start, count, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
-        let (out, t) = backend
-            .launch("energy::energy_albedo_avg", args, &[], n_avg, 1, |a, i, out| {
-                kern::albedo_avg_cell(0, &kern::AlbedoAvgArgs { first: a.first + i, ..*a }, out)
-            })
-            .with_context(|| format!("E_avg, samples {start}..{}", start + count))?;
-        for (s, v) in sum_avg.iter_mut().zip(&out) {
-            *s += f64::from(*v);
-        }
-        t_avg = Some(match t_avg { Some(a) => a.add(t), None => t });
-        start += count;
-        pb.inc(1);
-    }
+    let avg = |s: kern::SampleChunks| kern::AlbedoAvgArgs { n_avg: spec.n_avg, s, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
+    let t_avg = chunked_sums(backend, avg, n_avg, spec.avg_samples, spec.chunk, invocations, &pb, |out, c| sum_avg[c] += f64::from(out[c]))
+        .context("E_avg")?;
     pb.finish_and_clear();
     let ns = f64::from(spec.samples);
     let na = f64::from(spec.avg_samples);
@@ -368,8 +347,76 @@ pub fn precompute(backend: &Backend, spec: &TableSpec, progress: bool) -> Result
         samples: spec.samples,
         avg_samples: spec.avg_samples,
     };
-    let times = PrecomputeTimes { table: t_table.expect("one chunk"), avg: t_avg.expect("one chunk"), wall: t0.elapsed().as_secs_f64() };
+    let times = PrecomputeTimes { table: t_table, avg: t_avg, wall: t0.elapsed().as_secs_f64() };
     Ok((tables, times))
+}
+
+/// Invocations one table launch aims at: whole chunks of every cell, at least one chunk. A
+/// launch of every (cell, chunk) pair at once fills a GPU that one chunk's cells (16-1024
+/// invocations) leaves idle; several launches keep the progress bar moving on long precomputes.
+const TABLE_INVOCATIONS_PER_LAUNCH: usize = 1 << 16;
+
+/// A table kernel's launch record: its entry point, outputs per item, and the CPU launcher's call
+/// of its per-invocation function for one item.
+trait TableKernel: runner::LaunchArgs {
+    const ENTRY: &'static str;
+    const STRIDE: usize;
+    /// Item `first + i` into `out` (its `STRIDE` values).
+    fn cpu_item(&self, i: u32, out: &mut [f32]);
+}
+
+impl TableKernel for kern::AlbedoTableArgs {
+    const ENTRY: &'static str = "energy::energy_albedo_table";
+    const STRIDE: usize = kern::TABLE_STRIDE;
+    fn cpu_item(&self, i: u32, out: &mut [f32]) {
+        kern::albedo_table_cell(0, &kern::AlbedoTableArgs { first: self.first + i, ..*self }, out)
+    }
+}
+
+impl TableKernel for kern::AlbedoAvgArgs {
+    const ENTRY: &'static str = "energy::energy_albedo_avg";
+    const STRIDE: usize = 1;
+    fn cpu_item(&self, i: u32, out: &mut [f32]) {
+        kern::albedo_avg_cell(0, &kern::AlbedoAvgArgs { first: self.first + i, ..*self }, out)
+    }
+}
+
+/// Run a table kernel over `samples` samples of `cells` cells in chunks of `chunk` samples, as
+/// few launches of whole chunks as `invocations` per launch allows, and call
+/// `add(chunk_output, cell)` for every chunk in sample order and every cell (the output of one
+/// chunk: the kernel's `out` for that chunk's items). Returns the summed launch time.
+fn chunked_sums<A: TableKernel>(
+    backend: &Backend,
+    args: impl Fn(kern::SampleChunks) -> A,
+    cells: usize,
+    samples: u32,
+    chunk: u32,
+    invocations: usize,
+    pb: &indicatif::ProgressBar,
+    mut add: impl FnMut(&[f32], usize),
+) -> Result<Timing> {
+    let chunks = samples.div_ceil(chunk);
+    let per_launch = (invocations / cells).max(1).min(chunks as usize) as u32;
+    let stride = A::STRIDE;
+    let mut total: Option<Timing> = None;
+    let mut k = 0;
+    while k < chunks {
+        let n = per_launch.min(chunks - k);
+        let s = kern::SampleChunks { start: k * chunk, chunk, end: samples };
+        let a = args(s);
+        let (out, t) = backend
+            .launch(A::ENTRY, a, &[], cells * n as usize, stride, |a, i, out| a.cpu_item(i, out))
+            .with_context(|| format!("samples {}..{}", s.start, (u64::from(s.start) + u64::from(n) * u64::from(chunk)).min(u64::from(samples))))?;
+        for per_chunk in out.chunks_exact(cells * stride) {
+            for c in 0..cells {
+                add(per_chunk, c);
+            }
+        }
+        total = Some(match total { Some(x) => x.add(t), None => t });
+        k += n;
+        pb.inc(u64::from(n));
+    }
+    Ok(total.expect("at least one chunk"))
 }
 
 /// Compensation modes of the furnace.
@@ -791,4 +838,39 @@ pub fn write_furnace_png(path: &Path, w: u32, h: u32, albedo: &[f32]) -> Result<
         };
     }
     crate::io::write_png(path, &img)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tables are the f64 sums, in chunk order, of `shader_core::energy`'s per-chunk sums,
+    /// whether a launch carries one chunk or all of them (3 chunks, the last one short).
+    #[test]
+    fn table_sums_follow_chunk_order_whatever_the_launch_size() {
+        let spec = TableSpec { n_mu: 3, n_r: 2, n_avg: 4, samples: 700, avg_samples: 300, chunk: 256, seq: Sequence::Sobol, seed: 5 };
+        let cells = 6;
+        let (mut e, mut ep, mut avg) = (vec![0.0f64; cells], vec![0.0f64; cells], vec![0.0f64; 4]);
+        for start in (0..spec.samples).step_by(spec.chunk as usize) {
+            let count = spec.chunk.min(spec.samples - start);
+            for c in 0..cells as u32 {
+                let (a, b) = core_energy::albedo_cell_sums(c % 3, c / 3, 3, 2, start, count, spec.seq.id(), spec.seed);
+                e[c as usize] += f64::from(a);
+                ep[c as usize] += f64::from(b);
+            }
+        }
+        for start in (0..spec.avg_samples).step_by(spec.chunk as usize) {
+            let count = spec.chunk.min(spec.avg_samples - start);
+            for (j, s) in avg.iter_mut().enumerate() {
+                *s += f64::from(core_energy::albedo_avg_sums(j as u32, 4, start, count, spec.seq.id(), spec.seed));
+            }
+        }
+        let want = |v: &[f64], n: f64| v.iter().map(|s| (s / n) as f32).collect::<Vec<_>>();
+        for invocations in [1, 7, 1 << 16] {
+            let (t, _) = precompute_in_launches_of(&Backend::Cpu, &spec, false, invocations).unwrap();
+            assert_eq!(t.e, want(&e, 700.0), "E, launches of {invocations} invocations");
+            assert_eq!(t.e_prime, want(&ep, 700.0), "E', launches of {invocations} invocations");
+            assert_eq!(t.e_avg, want(&avg, 300.0), "E_avg, launches of {invocations} invocations");
+        }
+    }
 }

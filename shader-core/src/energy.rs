@@ -312,22 +312,32 @@ fn taps(n_x: u32, n_y: u32, x: f32, y: f32) -> Taps {
     Taps { i: cell_taps(x, n_x, false, true), j: cell_taps(y, n_y, true, true) }
 }
 
-/// Lookup with taps `t` in the table at word `offset` of `lut` (n_x columns).
+/// Lookup with taps `t` in the table at word `offset` of `lut` (n_x columns): the rows of the
+/// roughness taps, each interpolated with the mu taps ([`weigh_taps`]), weighed alike.
 #[inline]
 fn lookup(lut: &[f32], offset: usize, n_x: u32, t: &Taps) -> f32 {
-    let (i0, i1, i2, u0, u1, u2) = t.i;
     let (j0, j1, j2, w0, w1, w2) = t.j;
-    let r0 = lut_row(lut, offset + (j0 * n_x) as usize, i0, i1, i2, u0, u1, u2);
-    let r1 = lut_row(lut, offset + (j1 * n_x) as usize, i0, i1, i2, u0, u1, u2);
-    let r2 = lut_row(lut, offset + (j2 * n_x) as usize, i0, i1, i2, u0, u1, u2);
-    r0 * w0 + r1 * w1 + r2 * w2
+    let s = weigh_taps(lut, offset + (j0 * n_x) as usize, t.i) * w0 + weigh_taps(lut, offset + (j1 * n_x) as usize, t.i) * w1;
+    if j2 != j1 {
+        s + weigh_taps(lut, offset + (j2 * n_x) as usize, t.i) * w2
+    } else {
+        s
+    }
 }
 
-/// One table row at word `o`, interpolated with the mu taps.
+/// w0 v(i0) + w1 v(i1) + w2 v(i2) over the words v(i) = `lut[o + i]` for the taps of
+/// [`cell_taps`], the third term only where it is a third cell (the quadratic end cells): the
+/// linear case repeats i1 with weight 0, whose value is not read ([`lookup`] skips its third row
+/// alike).
 #[inline]
-#[allow(clippy::too_many_arguments)]
-fn lut_row(lut: &[f32], o: usize, i0: u32, i1: u32, i2: u32, u0: f32, u1: f32, u2: f32) -> f32 {
-    load(lut, o + i0 as usize) * u0 + load(lut, o + i1 as usize) * u1 + load(lut, o + i2 as usize) * u2
+fn weigh_taps(lut: &[f32], o: usize, t: (u32, u32, u32, f32, f32, f32)) -> f32 {
+    let (i0, i1, i2, u0, u1, u2) = t;
+    let s = load(lut, o + i0 as usize) * u0 + load(lut, o + i1 as usize) * u1;
+    if i2 != i1 {
+        s + load(lut, o + i2 as usize) * u2
+    } else {
+        s
+    }
 }
 
 /// (n_mu, n_r, n_avg) of a LUT buffer: its first three words read as `u32` bits. Panics (CPU) if
@@ -376,9 +386,8 @@ pub fn lut_e_avg(lut: &[f32], r: f32) -> f32 {
         return f32::NAN;
     }
     let (n_mu, n_r, n_avg) = lut_dims(lut);
-    let (j0, j1, j2, w0, w1, w2) = cell_taps(r, n_avg, true, true);
     let off = LUT_HEADER + (2 * n_mu * n_r) as usize;
-    load(lut, off + j0 as usize) * w0 + load(lut, off + j1 as usize) * w1 + load(lut, off + j2 as usize) * w2
+    weigh_taps(lut, off, cell_taps(r, n_avg, true, true))
 }
 
 /// Average Schlick reflectance F_avg = 2 int F(mu) mu dmu = lerp(f0, f90, 1/21) (Kulla & Conty

@@ -24,8 +24,39 @@ pub const FURNACE_STRIDE: usize = 3;
 /// Outputs per E / E' table cell: the sums of E and E'.
 pub const TABLE_STRIDE: usize = 2;
 
-/// Launch record of [`energy_albedo_table`]: samples `[start, start + count)` of every cell of an
-/// `n_mu` x `n_r` table (sequence `seq`, scrambling seed `seed`).
+/// Which samples one invocation of the table kernels sums: a launch covers chunks of `chunk`
+/// samples from sample `start` on, cut at sample `end`, for every cell; item `c` (counted over the
+/// whole launch) is cell `c % cells` of chunk `c / cells`, so every (cell, chunk) pair of the
+/// launch runs at once and each chunk's sum is the same whichever launch computes it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
+pub struct SampleChunks {
+    /// First sample of the launch's first chunk.
+    pub start: u32,
+    /// Samples per chunk.
+    pub chunk: u32,
+    /// One past the last sample (the last chunk is cut there).
+    pub end: u32,
+}
+
+impl SampleChunks {
+    /// (cell, first sample, sample count) of item `c` over `cells` cells.
+    #[inline]
+    pub fn item(&self, c: u32, cells: u32) -> (u32, u32, u32) {
+        let first = self.start + (c / cells) * self.chunk;
+        let count = if first < self.end { min_u32(self.chunk, self.end - first) } else { 0 };
+        (c % cells, first, count)
+    }
+}
+
+#[inline]
+fn min_u32(a: u32, b: u32) -> u32 {
+    if a < b { a } else { b }
+}
+
+/// Launch record of [`energy_albedo_table`]: the sample chunks `s` of every cell of an `n_mu` x
+/// `n_r` table (sequence `seq`, scrambling seed `seed`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
@@ -35,14 +66,13 @@ pub struct AlbedoTableArgs {
     pub first: u32,
     pub n_mu: u32,
     pub n_r: u32,
-    pub start: u32,
-    pub count: u32,
+    pub s: SampleChunks,
     pub seq: u32,
     pub seed: u32,
 }
 
-/// Launch record of [`energy_albedo_avg`]: samples `[start, start + count)` of every one of the
-/// `n_avg` roughness cells.
+/// Launch record of [`energy_albedo_avg`]: the sample chunks `s` of every one of the `n_avg`
+/// roughness cells.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
@@ -51,8 +81,7 @@ pub struct AlbedoAvgArgs {
     pub groups_x: u32,
     pub first: u32,
     pub n_avg: u32,
-    pub start: u32,
-    pub count: u32,
+    pub s: SampleChunks,
     pub seq: u32,
     pub seed: u32,
 }
@@ -81,21 +110,23 @@ pub struct FurnaceArgs {
     pub min_roughness: f32,
 }
 
-/// The E / E' table, invocation `i`: the f32 sums (E, E') of cell `first + i`'s samples, written
-/// to `out[2 i]`, `out[2 i + 1]`.
+/// The E / E' table, invocation `i`: the f32 sums (E, E') of item `first + i`'s samples
+/// ([`SampleChunks::item`]), written to `out[2 i]`, `out[2 i + 1]`.
 #[inline]
 pub fn albedo_table_cell(i: u32, a: &AlbedoTableArgs, out: &mut [f32]) {
-    let c = a.first + i;
-    let (e, ep) = energy::albedo_cell_sums(c % a.n_mu, c / a.n_mu, a.n_mu, a.n_r, a.start, a.count, a.seq, a.seed);
+    let (cell, start, count) = a.s.item(a.first + i, a.n_mu * a.n_r);
+    let (e, ep) = energy::albedo_cell_sums(cell % a.n_mu, cell / a.n_mu, a.n_mu, a.n_r, start, count, a.seq, a.seed);
     let o = (i as usize) * TABLE_STRIDE;
     out[o] = e;
     out[o + 1] = ep;
 }
 
-/// E_avg, invocation `i`: the f32 sum of roughness cell `first + i`'s samples, written to `out[i]`.
+/// E_avg, invocation `i`: the f32 sum of item `first + i`'s samples ([`SampleChunks::item`] over
+/// the roughness cells), written to `out[i]`.
 #[inline]
 pub fn albedo_avg_cell(i: u32, a: &AlbedoAvgArgs, out: &mut [f32]) {
-    out[i as usize] = energy::albedo_avg_sums(a.first + i, a.n_avg, a.start, a.count, a.seq, a.seed);
+    let (cell, start, count) = a.s.item(a.first + i, a.n_avg);
+    out[i as usize] = energy::albedo_avg_sums(cell, a.n_avg, start, count, a.seq, a.seed);
 }
 
 /// White furnace, invocation `i`: pixel (or grid cell) `first + i`'s (albedo, mu, roughness),

@@ -484,11 +484,12 @@ pub fn ssr_specular(
 }
 
 /// Stochastic SSR, compaction step 1: the exclusive prefix sum of one count column of the tiles
-/// (`args[3]`: `stochastic::TILE_RAYS` or `TILE_ELIGIBLE`) by one workgroup of 64 lanes, in chunks of 64 tiles (Hillis-Steele scan in workgroup
-/// memory, the running total carried between chunks), and the trace pass's dispatch record
-/// (`stochastic::dispatch_record`: ray count, then the indirect-dispatch groups) of the pass
-/// launched over that list. Integer sums: the same offsets as the CPU's sequential
-/// `prefix_sum_tiles`. `args[2]` = tile count.
+/// (`args[3]`: `stochastic::TILE_RAYS`, `TILE_ELIGIBLE` or `TILE_VALID`) by one workgroup of 64
+/// lanes: each lane sums its segment of the tiles (`stochastic::scan_segment`), a Hillis-Steele
+/// scan in workgroup memory of the 64 segment totals, each lane writes its segment's offsets;
+/// and the trace pass's dispatch record (`stochastic::dispatch_record`: ray count, then the
+/// indirect-dispatch groups) of the pass launched over that list. Integer sums: the same offsets
+/// as the CPU's sequential `prefix_sum_tiles`. `args[2]` = tile count.
 #[spirv(compute(threads(64)))]
 pub fn sssr_scan(
     #[spirv(local_invocation_index)] lane: u32,
@@ -501,33 +502,24 @@ pub fn sssr_scan(
     let n = args[2];
     let column = args[3] as usize;
     let lanes = stochastic::SCAN_LANES;
-    let mut carry: u32 = 0;
-    let mut base: u32 = 0;
-    while base < n {
-        let t = base + lane;
-        let own = if t < n { tiles[(t as usize) * stochastic::TILE_STRIDE + column].to_bits() } else { 0 };
-        shared[lane as usize] = own;
+    let (first, end) = stochastic::scan_segment(n, lane);
+    let own = stochastic::segment_total(tiles, column, first, end);
+    shared[lane as usize] = own;
+    workgroup_memory_barrier_with_group_sync();
+    let mut src: usize = 0;
+    let mut d: u32 = 1;
+    while d < lanes {
+        let v = stochastic::scan_lane_inclusive(shared, src, lane, d);
+        let dst = (lanes as usize) - src;
+        shared[dst + lane as usize] = v;
         workgroup_memory_barrier_with_group_sync();
-        let mut src: usize = 0;
-        let mut d: u32 = 1;
-        while d < lanes {
-            let v = stochastic::scan_lane_inclusive(shared, src, lane, d);
-            let dst = (lanes as usize) - src;
-            shared[dst + lane as usize] = v;
-            workgroup_memory_barrier_with_group_sync();
-            src = dst;
-            d *= 2;
-        }
-        let inclusive = shared[src + lane as usize];
-        let chunk_total = shared[src + (lanes - 1) as usize];
-        if t < n {
-            offsets[t as usize] = f32::from_bits(carry + inclusive - own);
-        }
-        workgroup_memory_barrier_with_group_sync();
-        carry += chunk_total;
-        base += lanes;
+        src = dst;
+        d *= 2;
     }
+    let inclusive = shared[src + lane as usize];
+    let total = shared[src + (lanes - 1) as usize];
+    stochastic::segment_offsets(tiles, column, first, end, inclusive - own, offsets);
     if lane == 0 {
-        stochastic::store_scan_total(offsets, dispatch, n, Some(carry), crate::WORKGROUP_SIZE);
+        stochastic::store_scan_total(offsets, dispatch, n, Some(total), crate::WORKGROUP_SIZE);
     }
 }

@@ -206,9 +206,9 @@ fn hit_reprojection_beats_surface_motion_under_camera_motion() {
     assert!(hit_rough < surf_rough + 0.01, "non-mirror: {hit_rough} vs {surf_rough}");
 }
 
-/// The parallel ray-list scan (one workgroup, Hillis-Steele in workgroup memory, chunks of 64
-/// tiles) gives the CPU's sequential offsets and dispatch record for tile counts around the chunk
-/// size and far beyond it, and the one-command-buffer frame (pyramids, classify, scan, emit,
+/// The parallel ray-list scan (one workgroup of 64 lanes, a segment of ceil(n / 64) tiles each,
+/// the segment totals scanned in workgroup memory or by subgroup adds) gives the CPU's
+/// sequential offsets and dispatch record for tile counts with empty, short and long segments, and the one-command-buffer frame (pyramids, classify, scan, emit,
 /// trace dispatched indirectly from the scan's record, resolve) gives the same results as the CPU.
 #[test]
 fn parallel_scan_and_indirect_trace_match_cpu() {
@@ -226,7 +226,7 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
         vec![ScanKernel::Workgroup]
     };
     let mut state = 0x2545_f491_4f6c_dd1du64;
-    for n in [0usize, 1, 63, 64, 65, 127, 1000, 4099] {
+    for n in [0usize, 1, 63, 64, 65, 127, 1000, 4099, 32400] {
         let tiles: Vec<f32> = (0..n)
             .flat_map(|_| {
                 state ^= state << 13;

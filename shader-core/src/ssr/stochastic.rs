@@ -153,21 +153,54 @@ pub fn classify_tile(p: &SsrParams, gbuf: &[f32], tx: u32, ty: u32) -> (u32, u32
 /// tile order (the CPU backend's compaction step; the GPU's parallel `sssr_scan` must give the
 /// same): `offsets[t]` for each of `n` tiles and the total at `offsets[n]`.
 pub fn prefix_sum_tiles(tiles: &[f32], n: u32, column: usize, offsets: &mut [f32]) {
-    let mut sum: u32 = 0;
-    let mut t: u32 = 0;
-    while t < n {
-        offsets[t as usize] = f32::from_bits(sum);
-        sum += tiles[(t as usize) * TILE_STRIDE + column].to_bits();
-        t += 1;
-    }
-    offsets[n as usize] = f32::from_bits(sum);
+    let total = segment_offsets(tiles, column, 0, n, 0, offsets);
+    offsets[n as usize] = f32::from_bits(total);
 }
 
-/// Workgroup of the parallel ray-list scan ([`scan_lane_inclusive`]): lanes per chunk of tiles.
+/// Lanes of the parallel scan's workgroup: the tiles are cut into `SCAN_LANES` segments.
 pub const SCAN_LANES: u32 = 64;
 
 /// Workgroup memory of the scan: two halves of `SCAN_LANES` words (ping-pong).
 pub const SCAN_SHARED: usize = 2 * SCAN_LANES as usize;
+
+/// Tiles `[first, end)` of lane `lane` in the parallel scan of `n` tiles: `SCAN_LANES`
+/// consecutive segments of ceil(n / `SCAN_LANES`) tiles, the last ones short or empty (a
+/// reduce-then-scan: each lane sums its segment, one scan of the 64 segment totals, each lane
+/// writes its segment's offsets from its total's exclusive prefix; Blelloch 1990, "Prefix sums
+/// and their applications", section 1.3).
+#[inline]
+pub fn scan_segment(n: u32, lane: u32) -> (u32, u32) {
+    let per = (n + SCAN_LANES - 1) / SCAN_LANES;
+    let first = if lane * per < n { lane * per } else { n };
+    let end = if first + per < n { first + per } else { n };
+    (first, end)
+}
+
+/// Sum of column `column` over tiles `[first, end)`.
+#[inline]
+pub fn segment_total(tiles: &[f32], column: usize, first: u32, end: u32) -> u32 {
+    let mut sum: u32 = 0;
+    let mut t = first;
+    while t < end {
+        sum += load(tiles, (t as usize) * TILE_STRIDE + column).to_bits();
+        t += 1;
+    }
+    sum
+}
+
+/// Write the exclusive offsets of tiles `[first, end)`, counting from `base`, into `offsets[t]`;
+/// returns `base` plus the segment's total.
+#[inline]
+pub fn segment_offsets(tiles: &[f32], column: usize, first: u32, end: u32, base: u32, offsets: &mut [f32]) -> u32 {
+    let mut sum = base;
+    let mut t = first;
+    while t < end {
+        store(offsets, t as usize, f32::from_bits(sum));
+        sum += load(tiles, (t as usize) * TILE_STRIDE + column).to_bits();
+        t += 1;
+    }
+    sum
+}
 
 /// Words of the trace pass's dispatch record written by the scan: [rays, groups in x, then the
 /// indirect dispatch (groups x, groups y, 1)] (`INDIRECT_OFFSET` words in).
