@@ -242,6 +242,15 @@ pub struct RayRecord {
     pub dir: Vec3,
 }
 
+/// Whether the ray record at `rays[b..]` is a valid ray that hit, and its hit pixel centre (x,
+/// y): the first four words of [`load_ray`], all `SSR_APPROX` reads.
+#[inline]
+pub fn load_ray_hit(rays: &[f32], b: usize) -> (bool, f32, f32) {
+    let [hx, hy, _, info_bits] = load4(rays, b);
+    let bits = info_bits.to_bits();
+    (bits & info::VALID != 0 && bits & info::HIT != 0, hx, hy)
+}
+
 /// Decode the ray record at `rays[b..]` (all zeros, an invalid ray, if it lies past the end).
 #[inline]
 pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
@@ -357,13 +366,13 @@ pub fn hdrp_reproject_approx(
     ob: usize,
 ) {
     let i = (y * p.width + x) as usize;
-    let r = load_ray(rays, i * RAY_STRIDE);
-    let rough = load(gbuf, i * GBUF_STRIDE + 4);
-    if !(r.valid && r.hit) {
+    let (hit, hx, hy) = load_ray_hit(rays, i * RAY_STRIDE);
+    if !hit {
         store(out, ob, Vec3::ZERO, 0.0);
         return;
     }
-    let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
+    let rough = load(gbuf, i * GBUF_STRIDE + 4);
+    let (u, v) = reproject_hit(p, gbuf, hx, hy);
     let opacity = edge_of_screen_fade(u, v, p.edge_fade_rcp_length)
         * perceptual_roughness_fade(rough, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);
     let mip = lerp(0.0, p.color_max_mip as f32, rough);

@@ -12,7 +12,7 @@
 
 use super::params::SsrParams;
 use super::trace::{load_surface, GBUF_STRIDE};
-use crate::buffer::{load, store};
+use crate::buffer::{load, load4, store};
 use crate::energy::{lut_e_and_e_prime, schlick_albedo, DIELECTRIC_F0};
 use crate::vector::Vec3;
 
@@ -45,13 +45,15 @@ pub fn fg_pixel(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], x:
 }
 
 /// The specular pass for pixel (x, y): the reflection (premultiplied RGB, opacity; 4 values per
-/// pixel) with its RGB multiplied by [`fg_pixel`]; the opacity is kept.
+/// pixel) with its RGB multiplied by [`fg_pixel`]; the opacity is kept. Where the reflection's
+/// RGB is zero (no ray hit, or a black hit) it is written as it is, without reading the surface
+/// or the LUT: FG is finite and >= +0, so the product would be that zero, sign included.
 #[allow(clippy::too_many_arguments)]
 pub fn specular_pixel(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], reflection: &[f32], x: u32, y: u32, out: &mut [f32], ob: usize) {
-    let fg = fg_pixel(p, gbuf, base_color, lut, x, y);
-    let rb = ((y * p.width + x) as usize) * 4;
-    store(out, ob, load(reflection, rb) * fg.x);
-    store(out, ob + 1, load(reflection, rb + 1) * fg.y);
-    store(out, ob + 2, load(reflection, rb + 2) * fg.z);
-    store(out, ob + 3, load(reflection, rb + 3));
+    let [r, g, b, a] = load4(reflection, ((y * p.width + x) as usize) * 4);
+    let fg = if r == 0.0 && g == 0.0 && b == 0.0 { Vec3::new(1.0, 1.0, 1.0) } else { fg_pixel(p, gbuf, base_color, lut, x, y) };
+    store(out, ob, r * fg.x);
+    store(out, ob + 1, g * fg.y);
+    store(out, ob + 2, b * fg.z);
+    store(out, ob + 3, a);
 }
