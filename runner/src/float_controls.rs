@@ -16,6 +16,7 @@
 //!   unspecified and the GPU may differ from the CPU wherever a denormal appears.
 
 use shader_manifest::DenormMode;
+use shader_core::ieee::flush_denormals_on_this_thread;
 
 /// The fp32 fields of `VkPhysicalDeviceFloatControlsProperties`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -213,17 +214,6 @@ pub fn measure(gpu: &crate::gpu::GpuContext) -> Result<Result<DenormPolicy, Stri
     Ok(classify(&input, &got))
 }
 
-/// Set MXCSR.FTZ (bit 15) and MXCSR.DAZ (bit 6) on the calling thread.
-fn flush_denormals_on_this_thread() {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: ldmxcsr/stmxcsr only change this thread's SSE rounding/denormal controls.
-    unsafe {
-        let mut csr: u32 = 0;
-        core::arch::asm!("stmxcsr [{}]", in(reg) &mut csr, options(nostack));
-        csr |= (1 << 15) | (1 << 6);
-        core::arch::asm!("ldmxcsr [{}]", in(reg) &csr, options(nostack));
-    }
-}
 
 #[cfg(test)]
 mod tests {

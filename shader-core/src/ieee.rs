@@ -302,6 +302,22 @@ pub fn sqrt_soft(x: f32) -> f32 {
     s * pow2i(e >> 1) // exact: the result is normal
 }
 
+/// Make the calling CPU thread flush denormals as a GPU measured to flush them does: x86-64
+/// MXCSR.FTZ (bit 15, denormal results to zero) and MXCSR.DAZ (bit 6, denormal operands read as
+/// zero), the environment the CPU backend's threads then run in and the software routines above
+/// follow. No effect on other CPUs; not part of the SPIR-V build.
+#[cfg(not(target_arch = "spirv"))]
+pub fn flush_denormals_on_this_thread() {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: ldmxcsr/stmxcsr only change this thread's SSE rounding/denormal controls.
+    unsafe {
+        let mut csr: u32 = 0;
+        core::arch::asm!("stmxcsr [{}]", in(reg) &mut csr, options(nostack));
+        csr |= (1 << 15) | (1 << 6);
+        core::arch::asm!("ldmxcsr [{}]", in(reg) &csr, options(nostack));
+    }
+}
+
 /// 1 / sqrt(x) as two correctly rounded operations ([`div`] of 1 by [`sqrt`]).
 #[inline]
 pub fn rsqrt(x: f32) -> f32 {
@@ -375,13 +391,7 @@ mod tests {
     #[test]
     fn soft_routines_follow_ftz_daz_like_the_hardware() {
         std::thread::spawn(|| {
-            // SAFETY: changes only this thread's SSE denormal controls (MXCSR.FTZ, MXCSR.DAZ).
-            unsafe {
-                let mut csr: u32 = 0;
-                core::arch::asm!("stmxcsr [{}]", in(reg) &mut csr, options(nostack));
-                csr |= (1 << 15) | (1 << 6);
-                core::arch::asm!("ldmxcsr [{}]", in(reg) &csr, options(nostack));
-            }
+            flush_denormals_on_this_thread();
             assert_eq!(native_div(f32::from_bits(1), 1.0).to_bits(), 0, "FTZ/DAZ not in effect");
             let mut vals = std::vec::Vec::new();
             for bits in [0u32, 1, 2, 0x0000_1234, 0x003f_ffff, 0x0040_0000, 0x007f_ffff, 0x0080_0000, 0x0080_0001, 0x3f80_0000, 0x3fc0_0000, 0x4b80_0000, 0x7f7f_ffff, 0x7f80_0000, 0x7fc0_0000] {

@@ -36,12 +36,19 @@ pub fn fg_pixel(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], x:
     let metalness = load(gbuf, i * GBUF_STRIDE + 5);
     let mu = s.n.dot(s.v);
     let (e, ep) = lut_e_and_e_prime(lut, mu, s.perceptual_roughness);
-    let b = i * 3;
-    Vec3::new(
-        schlick_albedo(e, ep, metal_rough_f0(load(base_color, b), metalness), 1.0),
-        schlick_albedo(e, ep, metal_rough_f0(load(base_color, b + 1), metalness), 1.0),
-        schlick_albedo(e, ep, metal_rough_f0(load(base_color, b + 2), metalness), 1.0),
-    )
+    // A dielectric's f0 is 0.04 whatever its base colour (0.04 + (base - 0.04) * 0 for a finite
+    // base), so its base colour is not read.
+    let f0 = if metalness == 0.0 {
+        Vec3::new(DIELECTRIC_F0, DIELECTRIC_F0, DIELECTRIC_F0)
+    } else {
+        let b = i * 3;
+        Vec3::new(
+            metal_rough_f0(load(base_color, b), metalness),
+            metal_rough_f0(load(base_color, b + 1), metalness),
+            metal_rough_f0(load(base_color, b + 2), metalness),
+        )
+    };
+    Vec3::new(schlick_albedo(e, ep, f0.x, 1.0), schlick_albedo(e, ep, f0.y, 1.0), schlick_albedo(e, ep, f0.z, 1.0))
 }
 
 /// The specular pass for pixel (x, y): the reflection (premultiplied RGB, opacity; 4 values per
