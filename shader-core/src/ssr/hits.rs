@@ -10,10 +10,10 @@
 //! resolve's mip clamps to 0, `super::resolve::hit_color`).
 
 use super::params::SsrParams;
-use super::resolve::{edge_of_screen_fade, hit_position, load_ray, hit_colors_stored, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
+use super::resolve::{edge_of_screen_fade, hit_position, load_ray_hit, hit_colors_stored, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
 use super::stochastic::{fis_rays_in_window, fis_tan_half, ray_pdf_at_hit};
-use super::trace::{load_surface, RAY_STRIDE};
-use crate::buffer::store;
+use super::trace::{load_surface, RAY_PDF, RAY_STRIDE};
+use crate::buffer::{load, store};
 
 /// Write the hit record of ray slot `slot` (pixel `slot / samples_per_pixel`, in the ray records'
 /// order) at `out[ob..ob + HIT_STRIDE]`, its colour sampled from the colour pyramid `color` where
@@ -21,8 +21,10 @@ use crate::buffer::store;
 /// holds no hitting ray.
 #[inline]
 pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], slot: u32, out: &mut [f32], ob: usize) {
-    let r = load_ray(rays, (slot as usize) * RAY_STRIDE);
-    if !(r.valid && r.hit) {
+    // The ray's hit and its pdf: five of its record's eight words (not its direction).
+    let rb = (slot as usize) * RAY_STRIDE;
+    let (hit, hx, hy) = load_ray_hit(rays, rb);
+    if !hit {
         let mut k = 0;
         while k < HIT_STRIDE {
             store(out, ob + k, 0.0);
@@ -30,18 +32,19 @@ pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32],
         }
         return;
     }
+    let pdf = load(rays, rb + RAY_PDF);
     let q = slot / p.samples_per_pixel;
     let sq = load_surface(p, gbuf, q % p.width, q / p.width);
-    let hp = hit_position(p, gbuf, r.hx, r.hy);
-    let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
+    let hp = hit_position(p, gbuf, hx, hy);
+    let (u, v) = reproject_hit(p, gbuf, hx, hy);
     store(out, ob, hp.x);
     store(out, ob + 1, hp.y);
     store(out, ob + 2, hp.z);
-    store(out, ob + HIT_PDF, ray_pdf_at_hit(p, &sq, hp, r.pdf));
+    store(out, ob + HIT_PDF, ray_pdf_at_hit(p, &sq, hp, pdf));
     store(out, ob + HIT_UV, u);
     store(out, ob + HIT_UV + 1, v);
     store(out, ob + HIT_FADE, edge_of_screen_fade(u, v, p.edge_fade_rcp_length));
-    store(out, ob + HIT_TAN_HALF, fis_tan_half(r.pdf, fis_rays_in_window(p)));
+    store(out, ob + HIT_TAN_HALF, fis_tan_half(pdf, fis_rays_in_window(p)));
     if hit_colors_stored(p) {
         let c = sample_color(p, color, u, v, 0.0);
         store(out, ob + HIT_COLOR, c.x);
