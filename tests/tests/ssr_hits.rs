@@ -10,7 +10,7 @@ use host::ssr::sssr::{sssr_params, SssrSettings};
 use host::ssr::{scene, SsrSettings};
 use host::Backend;
 use shader_core::ieee;
-use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_STOCHASTIC};
+use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_RAY_COLOR, FLAG_REUSE, FLAG_STOCHASTIC};
 use shader_core::ssr::resolve::{
     edge_of_screen_fade, hit_position, lambda_cos, load_ray, log2_approx, perceptual_roughness_fade, reproject_hit, sample_color,
     ssr_sample_weight, OUT_STRIDE,
@@ -103,10 +103,14 @@ fn sssr_pixel_per_pair(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32],
                 if r.hit {
                     let (u, v) = reproject_hit(p, gbuf, r.hx, r.hy);
                     let a = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);
+                    // The footprint is seen from the resolving pixel, or with FLAG_RAY_COLOR from
+                    // the ray's own pixel.
+                    let ray_color = p.flags & FLAG_RAY_COLOR != 0;
+                    let (from, from_mirror) = if ray_color { (sq.origin, sq.perceptual_roughness < MIRROR_ROUGHNESS) } else { (s.origin, mirror) };
                     let mut mip = 0.0;
-                    if p.flags & FLAG_FIS != 0 && !mirror {
+                    if p.flags & FLAG_FIS != 0 && !from_mirror {
                         let tan_half = ieee::sqrt(ieee::div(core::f32::consts::FRAC_1_PI, r.pdf * rays_in_window));
-                        let (ddx, ddy) = (r.hx - s.origin.x, r.hy - s.origin.y);
+                        let (ddx, ddy) = (r.hx - from.x, r.hy - from.y);
                         mip = log2_approx(2.0 * ieee::sqrt(ddx * ddx + ddy * ddy) * tan_half).max(0.0);
                     }
                     acc = acc + sample_color(p, color, u, v, mip) * (a * w);
@@ -178,10 +182,11 @@ fn neighbourhood_resolves_equal_their_per_pair_form_to_the_bit() {
         ("floor", SssrSettings { rays_per_quad: 1, samples_per_pixel: 4, ..d.clone() }),
         ("animated", SssrSettings { rays_per_quad: 2, samples_per_pixel: 1, fis: false, ..d.clone() }),
         ("hallway", SssrSettings { rays_per_quad: 4, samples_per_pixel: 1, reuse: false, ..d.clone() }),
+        ("floor", SssrSettings { rays_per_quad: 4, samples_per_pixel: 1, ray_color: true, ..d.clone() }),
     ] {
         let g = scene(name).unwrap().render_gbuffer(W, H, 4);
         let gbuf = g.packed();
-        let tag = format!("{name} SSSR rpq {} spp {} reuse {} fis {}", t.rays_per_quad, t.samples_per_pixel, t.reuse, t.fis);
+        let tag = format!("{name} SSSR rpq {} spp {} reuse {} fis {} ray colour {}", t.rays_per_quad, t.samples_per_pixel, t.reuse, t.fis, t.ray_color);
         let consts = sssr_params(&g, &SsrSettings { frame: 2, ..SsrSettings::default() }, &t).unwrap();
         let p = consts;
         let mut c = Runner::new(&Backend::Cpu);

@@ -35,6 +35,7 @@ fn sssr_passes_match_gpu_bit_for_bit() {
         ("hallway", VndfSampler::Bounded, SssrSettings { rays_per_quad: 4, samples_per_pixel: 1, hiz_roughness_cut: 0.2, ..d.clone() }),
         ("hallway", VndfSampler::Caps, SssrSettings { rays_per_quad: 1, samples_per_pixel: 4, sample_bias: 0.0, ..d.clone() }),
         ("animated", VndfSampler::Heitz, SssrSettings { rays_per_quad: 2, samples_per_pixel: 1, ..d.clone() }),
+        ("hallway", VndfSampler::Heitz, SssrSettings { rays_per_quad: 4, samples_per_pixel: 1, ray_color: true, ..d.clone() }),
     ];
     let mut restarted_total = 0;
     for (name, sampler, t) in cases {
@@ -46,7 +47,7 @@ fn sssr_passes_match_gpu_bit_for_bit() {
         let s = SsrSettings { frame: 5, sampler, ..SsrSettings::default() };
         let (rpq, spp, reuse) = (t.rays_per_quad, t.samples_per_pixel, t.reuse);
         let mut consts = sssr_params(&g, &s, &t).unwrap();
-        let tag = format!("{name} {sampler:?} rpq {rpq} spp {spp} reuse {reuse} cut {}", t.hiz_roughness_cut);
+        let tag = format!("{name} {sampler:?} rpq {rpq} spp {spp} reuse {reuse} cut {} ray colour {}", t.hiz_roughness_cut, t.ray_color);
         let mut c = Runner::new(&Backend::Cpu);
         let mut q = Runner::new(gpu);
         let dp = c.depth_pyramid(&consts, &g.depth_layers()).unwrap();

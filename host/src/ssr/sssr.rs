@@ -10,7 +10,7 @@ use crate::Backend;
 use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
+use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_RAY_COLOR, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
 use shader_core::ssr::resolve::{COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
@@ -44,6 +44,10 @@ pub struct SssrSettings {
     /// Weight rays with the pdf stored at sampling time (Stachowiak's form) instead of the
     /// generating pixel's pdf at the reconstructed hit direction.
     pub sampled_pdf: bool,
+    /// With filtered importance sampling: fetch each ray's colour once, at the footprint seen
+    /// from its own pixel, for every pixel that reuses it (`FLAG_RAY_COLOR`), instead of at
+    /// each resolving pixel's footprint.
+    pub ray_color: bool,
     /// How the temporal pass reprojects the history.
     pub reprojection: Reprojection,
     /// Depth/normal history rejection (the neighbourhood clamp is always on).
@@ -73,6 +77,7 @@ impl Default for SssrSettings {
             rough_linear_steps: 16,
             fis: true,
             sampled_pdf: false,
+            ray_color: false,
             reprojection: Reprojection::Hit,
             history_rejection: true,
         }
@@ -124,6 +129,9 @@ pub fn sssr_params(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Ss
     }
     if t.sampled_pdf {
         c.flags |= FLAG_SAMPLED_PDF;
+    }
+    if t.ray_color {
+        c.flags |= FLAG_RAY_COLOR;
     }
     Ok(c)
 }

@@ -11,7 +11,8 @@
 
 use super::params::SsrParams;
 use super::resolve::{edge_of_screen_fade, hit_position, load_ray_hit, hit_colors_stored, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
-use super::stochastic::{fis_rays_in_window, fis_tan_half, ray_pdf_at_hit};
+use super::params::FLAG_FIS;
+use super::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_pdf_at_hit, MIRROR_ROUGHNESS};
 use super::trace::{load_surface, RAY_PDF, RAY_STRIDE};
 use crate::buffer::{load, store};
 
@@ -44,9 +45,13 @@ pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32],
     store(out, ob + HIT_UV, u);
     store(out, ob + HIT_UV + 1, v);
     store(out, ob + HIT_FADE, edge_of_screen_fade(u, v, p.edge_fade_rcp_length));
-    store(out, ob + HIT_TAN_HALF, fis_tan_half(pdf, fis_rays_in_window(p)));
+    let tan_half = fis_tan_half(pdf, fis_rays_in_window(p));
+    store(out, ob + HIT_TAN_HALF, tan_half);
     if hit_colors_stored(p) {
-        let c = sample_color(p, color, u, v, 0.0);
+        // The mip the resolve would use for this ray at its own pixel (mip 0 without filtered
+        // importance sampling or for a mirror pixel, whose ray no other pixel reuses).
+        let mip = if p.flags & FLAG_FIS != 0 && !(sq.perceptual_roughness < MIRROR_ROUGHNESS) { fis_mip(sq.origin, hx, hy, tan_half) } else { 0.0 };
+        let c = sample_color(p, color, u, v, mip);
         store(out, ob + HIT_COLOR, c.x);
         store(out, ob + HIT_COLOR + 1, c.y);
         store(out, ob + HIT_COLOR + 2, c.z);

@@ -59,6 +59,11 @@ pub const FLAG_REUSE: u32 = 8;
 /// Stochastic resolve: weight rays with the pdf stored at sampling time (Stachowiak's form)
 /// instead of the generating pixel's pdf at the reconstructed hit direction.
 pub const FLAG_SAMPLED_PDF: u32 = 16;
+/// Stochastic resolve with filtered importance sampling: each hitting ray's colour is fetched
+/// once, by the hits pass, at the cone footprint seen from the ray's own pixel, and every pixel
+/// that reuses the ray reads it (FidelityFX SSSR stores a radiance per ray alike); otherwise each
+/// (pixel, ray) pair samples the colour pyramid at the footprint seen from the resolving pixel.
+pub const FLAG_RAY_COLOR: u32 = 32;
 
 /// The parameters of every SSR pass, bound as they are (`#[repr(C)]`, 4-byte fields: no padding
 /// between them; `pad` keeps the matrices 16-byte aligned).

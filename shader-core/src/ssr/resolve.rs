@@ -15,7 +15,7 @@
 //! ```
 
 use crate::ieee;
-use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_FIS};
+use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_FIS, FLAG_RAY_COLOR};
 use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
 use super::trace::info;
 use crate::buffer::{load, load2, load3, load4, load8};
@@ -285,25 +285,33 @@ pub fn load_hit_pos_pdf(hits: &[f32], b: usize) -> (Vec3, f32) {
     (Vec3::new(x, y, z), pdf)
 }
 
-/// Does the hits pass store each ray's mip-0 colour ([`HIT_COLOR`])? When the frame's resolves
-/// gather at mip 0 only (HDRP's resolves; the stochastic one without filtered importance
-/// sampling), where it replaces 12 texel values per (pixel, ray) pair by 3 per pair and 12 per
-/// ray. With filtered importance sampling most rays of a 1080p frame gather above mip 0 and the
-/// record's colour would cost the hits pass more than it saves: the slots stay zero.
+/// Does the hits pass store each ray's colour ([`HIT_COLOR`])? When the frame's resolves gather
+/// at mip 0 only (HDRP's resolves; the stochastic one without filtered importance sampling; the
+/// ray's mip-0 colour, which replaces 12 texel values per (pixel, ray) pair by 3 per pair and 12
+/// per ray), and with [`FLAG_RAY_COLOR`] (the colour at the ray's own footprint,
+/// `super::stochastic::fis_mip`). With filtered importance sampling at each resolving pixel's
+/// footprint most rays of a 1080p frame gather above mip 0 and a record's mip-0 colour would cost
+/// the hits pass more than it saves: the slots stay zero.
 #[inline]
 pub fn hit_colors_stored(p: &SsrParams) -> bool {
-    p.flags & FLAG_FIS == 0
+    p.flags & FLAG_FIS == 0 || p.flags & FLAG_RAY_COLOR != 0
+}
+
+/// The colour stored in the hit record at `hits[hb..]` ([`HIT_COLOR`]).
+#[inline]
+pub fn stored_hit_color(hits: &[f32], hb: usize) -> Vec3 {
+    let [r, g, b] = load3(hits, hb + HIT_COLOR);
+    Vec3::new(r, g, b)
 }
 
 /// The colour a resolve gathers for the hitting ray whose record is at `hits[hb..]`, at colour
 /// mip `mip`: [`sample_color`] at the record's (u, v). Where the mip clamps to 0 and the record
-/// holds its mip-0 sample ([`hit_colors_stored`]; the hits pass computed it with the same
-/// function), that sample, read as 3 values instead of 12 texel values.
+/// holds its mip-0 sample ([`hit_colors_stored`] without [`FLAG_RAY_COLOR`]; the hits pass
+/// computed it with the same function), that sample, read as 3 values instead of 12 texel values.
 #[inline]
 pub fn hit_color(p: &SsrParams, color: &[f32], hits: &[f32], hb: usize, mip: f32) -> Vec3 {
-    if hit_colors_stored(p) && clampf(mip, 0.0, p.color_max_mip as f32) == 0.0 {
-        let [r, g, b] = load3(hits, hb + HIT_COLOR);
-        Vec3::new(r, g, b)
+    if p.flags & FLAG_FIS == 0 && clampf(mip, 0.0, p.color_max_mip as f32) == 0.0 {
+        stored_hit_color(hits, hb)
     } else {
         let [u, v] = load2(hits, hb + HIT_UV);
         sample_color(p, color, u, v, mip)

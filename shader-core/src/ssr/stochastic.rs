@@ -22,9 +22,9 @@
 //! ```
 
 use crate::ieee;
-use super::params::{SsrParams, FLAG_FIS, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
+use super::params::{SsrParams, FLAG_FIS, FLAG_RAY_COLOR, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, SAMPLER_BOUNDED, SAMPLER_CAPS, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::resolve::{
-    hit_color, lambda_cos, load_hit_pos_pdf, log2_approx, perceptual_roughness_fade, store as resolve_store, store_resolved,
+    hit_color, lambda_cos, load_hit_pos_pdf, log2_approx, perceptual_roughness_fade, store as resolve_store, store_resolved, stored_hit_color,
     HIT_FADE, HIT_STRIDE, HIT_TAN_HALF, OUT_STRIDE,
 };
 use super::trace::{clampf, info, load_surface, maxf, minf, reflect, trace_and_store, store_no_ray, Surface, RAY_INFO, RAY_PDF, RAY_STRIDE};
@@ -453,6 +453,17 @@ pub fn fis_rays_in_window(p: &SsrParams) -> f32 {
     maxf(1.0, window as f32 * p.samples_per_pixel as f32 * p.rays_per_quad as f32 * 0.25)
 }
 
+/// The colour pyramid mip of filtered importance sampling for a ray hitting pixel centre (hx,
+/// hy) seen from pixel centre `origin` (screen units): log2 of the cone footprint's diameter in
+/// pixels, 2 |hit - origin| tan_half ([`fis_tan_half`]), clamped below at 0.
+#[inline]
+pub fn fis_mip(origin: Vec3, hx: f32, hy: f32, tan_half: f32) -> f32 {
+    let ddx = hx - origin.x;
+    let ddy = hy - origin.y;
+    let dist_px = ieee::sqrt(ddx * ddx + ddy * ddy);
+    maxf(0.0, log2_approx(2.0 * dist_px * tan_half))
+}
+
 /// Filtered importance sampling (Stachowiak 2015, after Krivanek & Colbert 2008): a ray drawn
 /// with density `pdf` stands for a cone of solid angle 1 / (pdf N), N = [`fis_rays_in_window`];
 /// its half-angle tangent ~ sqrt(omega / pi). Written as (1/pi) / (pdf N): the form
@@ -487,6 +498,7 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], h
     let lambda_v = lambda_cos(nv, alpha);
     let radius: i32 = if mirror || p.flags & FLAG_REUSE == 0 { 0 } else { p.resolve_radius as i32 };
     let fis = p.flags & FLAG_FIS != 0 && !mirror;
+    let ray_color = p.flags & FLAG_RAY_COLOR != 0;
     let mut acc = Vec3::ZERO;
     let mut acc_a = 0.0;
     let mut acc_w = 0.0;
@@ -524,16 +536,16 @@ pub fn resolve_pixel(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], h
                         continue;
                     }
                     if hit {
-                        let mut mip = 0.0;
-                        if fis {
-                            // Footprint diameter in pixels at the hit's screen distance.
-                            let [hx, hy] = load2(rays, rb);
-                            let ddx = hx - s.origin.x;
-                            let ddy = hy - s.origin.y;
-                            let dist_px = ieee::sqrt(ddx * ddx + ddy * ddy);
-                            mip = maxf(0.0, log2_approx(2.0 * dist_px * load(hits, hb + HIT_TAN_HALF)));
-                        }
-                        let c = hit_color(p, color, hits, hb, mip);
+                        let c = if ray_color {
+                            stored_hit_color(hits, hb)
+                        } else {
+                            let mut mip = 0.0;
+                            if fis {
+                                let [hx, hy] = load2(rays, rb);
+                                mip = fis_mip(s.origin, hx, hy, load(hits, hb + HIT_TAN_HALF));
+                            }
+                            hit_color(p, color, hits, hb, mip)
+                        };
                         let fade = load(hits, hb + HIT_FADE);
                         acc = acc + c * (fade * w);
                         acc_a += fade * w;
