@@ -1,7 +1,8 @@
 //! Per-ray hit records for the neighbourhood resolves (Stachowiak 2015 "ray reuse"; HDRP's
 //! non-approximate reprojection): a ray's hit position, the density its pixel drew it with at
 //! the direction to that hit, the hit's previous-frame UV and edge fade, its
-//! filtered-importance-sampling cone and the colour at the hit (mip 0) depend on the ray alone,
+//! filtered-importance-sampling cone and the colour at the hit (mip 0, or with `FLAG_RAY_COLOR`
+//! at the ray's own cone footprint) depend on the ray alone,
 //! so one pass computes them once per ray ([`super::resolve::HIT_STRIDE`] layout) and the
 //! resolves, which visit every ray from up to nine pixels, read them.
 //!

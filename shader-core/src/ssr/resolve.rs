@@ -263,8 +263,9 @@ pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
 /// order): hit position (view space) x y z, the generating pixel's density at the direction to
 /// it ([`HIT_PDF`]), previous-frame u v of the hit ([`HIT_UV`]), its edge-of-screen fade
 /// ([`HIT_FADE`]), the filtered-importance-sampling cone's half-angle tangent ([`HIT_TAN_HALF`])
-/// and the colour pyramid's mip-0 sample at (u, v), r g b ([`HIT_COLOR`], where
-/// [`hit_colors_stored`]). Only slots whose ray hit are written; the rest stay zero.
+/// and the colour pyramid's sample at (u, v), r g b ([`HIT_COLOR`], where [`hit_colors_stored`]:
+/// at mip 0, or with [`FLAG_RAY_COLOR`] at the ray's own footprint). Only slots whose ray hit
+/// are written; the rest stay zero.
 pub const HIT_STRIDE: usize = 11;
 /// Offset of the pdf in a hit record (after the position).
 pub const HIT_PDF: usize = 3;
@@ -274,7 +275,8 @@ pub const HIT_UV: usize = 4;
 pub const HIT_FADE: usize = 6;
 /// Offset of the cone's half-angle tangent in a hit record.
 pub const HIT_TAN_HALF: usize = 7;
-/// Offset of the mip-0 colour (r, g, b) in a hit record: [`sample_color`] at (u, v), mip 0.
+/// Offset of the colour (r, g, b) in a hit record: [`sample_color`] at (u, v), at mip 0 or, with
+/// [`FLAG_RAY_COLOR`], at the mip of the ray's footprint seen from its own pixel.
 pub const HIT_COLOR: usize = 8;
 
 /// Hit position and pdf of the hit record at `hits[b..]` (the part every resolve weight needs;
