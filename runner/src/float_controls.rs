@@ -214,7 +214,6 @@ pub fn measure(gpu: &crate::gpu::GpuContext) -> Result<Result<DenormPolicy, Stri
     Ok(classify(&input, &got))
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
