@@ -139,8 +139,8 @@ fn ssr_rejects_options_of_the_other_pipeline_and_a_fade_before_the_cut() {
     fails_with(&["ssr", "--trace", "linear16", "--pipeline", "sssr", "--device", "cpu"], &["--trace applies to --pipeline hdrp only"]);
     fails_with(&["ssr", "--spp", "4", "--device", "cpu"], &["--spp applies to --pipeline sssr only"]);
     fails_with(&["ssr", "--no-reuse", "--pipeline", "hdrp", "--device", "cpu"], &["--no-reuse applies to --pipeline sssr only"]);
-    fails_with(&["ssr", "--ray-color", "--pipeline", "hdrp", "--device", "cpu"], &["--ray-color applies to --pipeline sssr only"]);
-    fails_with(&["ssr", "--ray-color", "--no-fis", "--pipeline", "sssr", "--device", "cpu"], &["--ray-color", "--no-fis"]);
+    fails_with(&["ssr", "--no-ray-color", "--pipeline", "hdrp", "--device", "cpu"], &["--no-ray-color applies to --pipeline sssr only"]);
+    fails_with(&["ssr", "--no-ray-color", "--no-fis", "--pipeline", "sssr", "--device", "cpu"], &["--no-ray-color", "--no-fis"]);
     fails_with(&["ssr", "--sampler", "caps", "--device", "cpu"], &["--sampler applies to"]);
     fails_with(&["ssr", "--min-smoothness", "0.7", "--device", "cpu"], &["--smoothness-fade-start (0.5) must be at least --min-smoothness (0.7)"]);
 }

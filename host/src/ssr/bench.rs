@@ -92,8 +92,9 @@ impl Config {
                 let rays = if s.rays_per_quad == 4 { format!("{} rpp", s.samples_per_pixel) } else { format!("{}/quad", s.rays_per_quad * s.samples_per_pixel) };
                 let d = SssrSettings::default();
                 format!(
-                    "SSSR {rays}{}{}{}{}{}",
+                    "SSSR {rays}{}{}{}{}{}{}",
                     if s.reuse { " reuse" } else { "" },
+                    if s.fis && !s.ray_color { " per-pair-colour" } else { "" },
                     if s.temporal_frames > 1 { format!(" +T{}", s.temporal_frames) } else { String::new() },
                     if s.temporal_frames > 1 && s.reprojection == Reprojection::Surface { " surface-reproj" } else { "" },
                     if s.hiz_roughness_cut != d.hiz_roughness_cut { format!(" linear16>={}", s.hiz_roughness_cut) } else { String::new() },
@@ -127,6 +128,8 @@ pub fn configs() -> Vec<Config> {
     v.push(Config::Sssr(SssrSettings { samples_per_pixel: 4, temporal_frames: 16, ..d.clone() }, h));
     v.push(Config::Sssr(SssrSettings { rays_per_quad: 1, ..d.clone() }, h));
     v.push(Config::Sssr(SssrSettings { rays_per_quad: 1, temporal_frames: 16, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { ray_color: false, ..d.clone() }, h));
+    v.push(Config::Sssr(SssrSettings { ray_color: false, temporal_frames: 16, ..d.clone() }, h));
     v
 }
 

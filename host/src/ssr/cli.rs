@@ -95,13 +95,13 @@ pub struct RunArgs {
     /// SSSR: disable filtered importance sampling (colour pyramid mip from the ray cone).
     #[arg(long)]
     pub no_fis: bool,
-    /// SSSR with filtered importance sampling: fetch each ray's colour once, at the cone
-    /// footprint seen from the ray's own pixel, and let every pixel that reuses the ray read it
-    /// (as FidelityFX SSSR stores a radiance per ray), instead of sampling the colour pyramid per
-    /// (pixel, ray) pair at the resolving pixel's footprint: about a quarter of the resolve's
-    /// reads, slightly different reflections (docs/ssr.md).
+    /// SSSR with filtered importance sampling: sample the colour pyramid per (pixel, ray) pair at
+    /// the resolving pixel's cone footprint, instead of once per ray at the footprint seen from
+    /// the ray's own pixel, which every pixel reusing the ray then reads (the default, as
+    /// FidelityFX SSSR stores a radiance per ray): about four times the resolve's reads for
+    /// reflections that differ in the last digits (docs/ssr.md "Colour per ray").
     #[arg(long, conflicts_with = "no_fis")]
-    pub ray_color: bool,
+    pub no_ray_color: bool,
     /// GGX visible-normal sampler of the stochastic rays (SSSR, and HDRP with --resolve 3x3 or cross5).
     #[arg(long, value_enum, default_value = "heitz")]
     pub sampler: VndfSampler,
@@ -136,7 +136,7 @@ const SSSR_ONLY: &[&str] = &[
     "bias",
     "hiz_roughness_cut",
     "no_fis",
-    "ray_color",
+    "no_ray_color",
     "reprojection",
     "no_history_rejection",
 ];
@@ -189,7 +189,7 @@ impl RunArgs {
             sample_bias: self.bias,
             hiz_roughness_cut: self.hiz_roughness_cut,
             fis: !self.no_fis,
-            ray_color: self.ray_color,
+            ray_color: !self.no_ray_color,
             reprojection: self.reprojection,
             history_rejection: !self.no_history_rejection,
             ..SssrSettings::default()

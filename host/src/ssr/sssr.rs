@@ -45,8 +45,9 @@ pub struct SssrSettings {
     /// generating pixel's pdf at the reconstructed hit direction.
     pub sampled_pdf: bool,
     /// With filtered importance sampling: fetch each ray's colour once, at the footprint seen
-    /// from its own pixel, for every pixel that reuses it (`FLAG_RAY_COLOR`), instead of at
-    /// each resolving pixel's footprint.
+    /// from its own pixel, for every pixel that reuses it (`FLAG_RAY_COLOR`; the default), instead
+    /// of at each resolving pixel's footprint (false). Without filtered importance sampling every
+    /// colour is the mip-0 one and this changes nothing.
     pub ray_color: bool,
     /// How the temporal pass reprojects the history.
     pub reprojection: Reprojection,
@@ -77,7 +78,7 @@ impl Default for SssrSettings {
             rough_linear_steps: 16,
             fis: true,
             sampled_pdf: false,
-            ray_color: false,
+            ray_color: true,
             reprojection: Reprojection::Hit,
             history_rejection: true,
         }
@@ -130,7 +131,7 @@ pub fn sssr_params(gb: &GBuffer, s: &SsrSettings, t: &SssrSettings) -> Result<Ss
     if t.sampled_pdf {
         c.flags |= FLAG_SAMPLED_PDF;
     }
-    if t.ray_color {
+    if t.fis && t.ray_color {
         c.flags |= FLAG_RAY_COLOR;
     }
     Ok(c)

@@ -10,9 +10,8 @@
 //! inputs, so the resolves' outputs are unchanged to the bit (the colour is used where the
 //! resolve's mip clamps to 0, `super::resolve::hit_color`).
 
-use super::params::SsrParams;
-use super::resolve::{edge_of_screen_fade, hit_position, load_ray_hit, hit_colors_stored, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
-use super::params::FLAG_FIS;
+use super::params::{SsrParams, FLAG_FIS};
+use super::resolve::{edge_of_screen_fade, hit_colors_stored, hit_position, load_ray_hit, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
 use super::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_pdf_at_hit, MIRROR_ROUGHNESS};
 use super::trace::{load_surface, RAY_PDF, RAY_STRIDE};
 use crate::buffer::{load, store};
