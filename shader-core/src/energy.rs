@@ -340,11 +340,12 @@ fn weigh_taps(lut: &[f32], o: usize, t: (u32, u32, u32, f32, f32, f32)) -> f32 {
     }
 }
 
-/// (n_mu, n_r, n_avg) of a LUT buffer: its first three words read as `u32` bits. Panics (CPU) if
-/// the buffer is shorter than 3 words.
+/// (n_mu, n_r, n_avg) of a LUT buffer: its first three words read as `u32` bits, in one merging
+/// range check (zeros for a buffer shorter than 3 words, which no validated table is).
 #[inline]
 pub fn lut_dims(lut: &[f32]) -> (u32, u32, u32) {
-    (lut[0].to_bits(), lut[1].to_bits(), lut[2].to_bits())
+    let [n_mu, n_r, n_avg] = crate::buffer::load3(lut, 0);
+    (n_mu.to_bits(), n_r.to_bits(), n_avg.to_bits())
 }
 
 /// E(mu, r) from the LUT buffer (linear in mu, [`cell_taps`] in r); NaN for NaN input.

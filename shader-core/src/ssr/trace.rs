@@ -176,8 +176,8 @@ pub fn project(p: &SsrParams, v: Vec3) -> Vec3 {
 /// Read pixel (x, y) of the G-buffer as a view-space surface (see [`Surface::valid`]).
 pub fn load_surface(p: &SsrParams, gbuf: &[f32], x: u32, y: u32) -> Surface {
     let b = ((y * p.width + x) as usize) * GBUF_STRIDE;
-    let z = crate::buffer::load(gbuf, b);
-    let nw = Vec3::new(crate::buffer::load(gbuf, b + 1), crate::buffer::load(gbuf, b + 2), crate::buffer::load(gbuf, b + 3));
+    let [z, nx, ny, nz] = crate::buffer::load4(gbuf, b);
+    let nw = Vec3::new(nx, ny, nz);
     let rough = crate::buffer::load(gbuf, b + 4);
     let sx = x as f32 + 0.5;
     let sy = y as f32 + 0.5;
