@@ -750,6 +750,7 @@ pub fn ablation_configs(spp: u32) -> Vec<(String, Config)> {
         (format!("SSSR {spp} rpp reuse (defaults)"), Config::Sssr(base.clone(), VndfSampler::Heitz)),
         ("  - pdf stored at sampling (old weights)".into(), Config::Sssr(SssrSettings { sampled_pdf: true, ..base.clone() }, VndfSampler::Heitz)),
         ("  - FIS off".into(), Config::Sssr(SssrSettings { fis: false, ..base.clone() }, VndfSampler::Heitz)),
+        ("  - colour per (pixel, ray) pair, not per ray".into(), Config::Sssr(SssrSettings { ray_color: false, ..base.clone() }, VndfSampler::Heitz)),
         ("  - bias 0".into(), Config::Sssr(SssrSettings { sample_bias: 0.0, ..base.clone() }, VndfSampler::Heitz)),
         ("  + linear 16-step march for roughness >= 0.2 (old default)".into(), Config::Sssr(SssrSettings { hiz_roughness_cut: 0.2, ..base.clone() }, VndfSampler::Heitz)),
         ("  - FIS and bias off (plain)".into(), Config::Sssr(plain.clone(), VndfSampler::Heitz)),
