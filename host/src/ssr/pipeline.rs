@@ -179,7 +179,8 @@ pub fn depth_pyramid_init(p: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
     if let Some(i) = depth[..n].iter().position(|z| !(*z > 0.0)) {
         anyhow::bail!("depth must be > 0 (linear view depth, +inf for the sky), got {} at pixel ({}, {})", depth[i], i % p.width as usize, i / p.width as usize);
     }
-    let mut pyr = vec![0.0f32; if far == 0 { total } else { total + n }];
+    // Pages touched now: the CPU passes that fill the coarser mips time their kernel only.
+    let mut pyr = runner::cpu::touched_zeros(if far == 0 { total } else { total + n });
     pyr[..n].copy_from_slice(&depth[..n]);
     if far != 0 {
         pyr[total..].copy_from_slice(&depth[n..]);
@@ -201,25 +202,6 @@ fn update_in_place<W: Send>(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -
             store(w, buf);
         }
     }
-}
-
-/// The CPU launcher of a pass over a compacted list of `entries`: on all cores, `f(k, record)`
-/// computes entry `k`'s record (`S` floats) and returns the slot it belongs to; each record is
-/// stored at its slot of a zeroed buffer of `slots` records, as the GPU kernel writes it.
-fn scatter<const S: usize>(entries: usize, slots: usize, f: impl Fn(u32, &mut [f32]) -> usize + Sync) -> Vec<f32> {
-    let recs: Vec<(usize, [f32; S])> = (0..entries as u32)
-        .into_par_iter()
-        .map(|k| {
-            let mut r = [0.0f32; S];
-            let slot = f(k, &mut r);
-            (slot, r)
-        })
-        .collect();
-    let mut out = vec![0.0f32; slots * S];
-    for (slot, r) in recs {
-        out[slot * S..(slot + 1) * S].copy_from_slice(&r);
-    }
-    out
 }
 
 /// The depth-pyramid passes as (level, invocations): each writes mips `level` and `level + 1`
@@ -411,7 +393,11 @@ impl<'a> Runner<'a> {
             return Ok(vec![0.0; slots * S]);
         }
         match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed(name, || scatter::<S>(count, slots, |k, o| cpu_fn(k, o) as usize))),
+            Backend::Cpu => {
+                let mut out = runner::cpu::touched_zeros(slots * S);
+                self.cpu_timed(name, || runner::cpu::scatter_records::<S>(count, &mut out, |k, o| cpu_fn(k, o) as usize)).with_context(|| format!("CPU pass {name}"))?;
+                Ok(out)
+            }
             Backend::Gpu(_) => self.gpu_pass(name, entry, count as u32, extra, consts, inputs, slots * S, None),
         }
     }
@@ -421,6 +407,16 @@ impl<'a> Runner<'a> {
         let r = runner::cpu::on_backend_threads(f);
         self.record(name, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock });
         r
+    }
+
+    /// A CPU pass that fills an output of `len` floats (zeros where it writes nothing): the
+    /// buffer is allocated with its pages touched before the clock starts
+    /// (`runner::cpu::touched_zeros`), as the GPU backend's buffers exist before its timed
+    /// dispatch, so the pass's time is its kernel's.
+    pub(crate) fn cpu_pass(&mut self, name: &str, len: usize, f: impl FnOnce(&mut [f32]) + Send) -> Vec<f32> {
+        let mut out = runner::cpu::touched_zeros(len);
+        self.cpu_timed(name, || f(&mut out));
+        out
     }
 
     /// The max-device-depth pyramid of `depth` (level 0 = its device depth), all levels packed, followed by
@@ -448,7 +444,7 @@ impl<'a> Runner<'a> {
         let p = *consts;
         let total = pyramid_texels(p.width, p.height) * COLOR_STRIDE;
         anyhow::ensure!(color.len() == (p.width * p.height) as usize * COLOR_STRIDE, "colour has {} values, expected {} ({}x{} RGB)", color.len(), (p.width * p.height) as usize * COLOR_STRIDE, p.width, p.height);
-        let mut pyr = vec![0.0f32; total];
+        let mut pyr = runner::cpu::touched_zeros(total);
         pyr[..color.len()].copy_from_slice(color);
         for (level, n) in color_pyramid_passes(&p) {
             match self.backend {
@@ -481,12 +477,10 @@ impl<'a> Runner<'a> {
         let count = offsets[n].to_bits() as usize;
         anyhow::ensure!(count <= (p.width * p.height) as usize, "the scan counts {count} valid pixels in a {}x{} frame", p.width, p.height);
         let mut pixels = match self.backend {
-            Backend::Cpu => self.cpu_timed("compact", || {
-                let mut pixels = vec![0.0f32; count.max(1)];
+            Backend::Cpu => self.cpu_pass("compact", count.max(1), |pixels| {
                 for t in 0..n as u32 {
-                    kern::hdrp_emit(&p, gbuf, offsets, t, &mut pixels);
+                    kern::hdrp_emit(&p, gbuf, offsets, t, pixels);
                 }
-                pixels
             }),
             Backend::Gpu(_) => self.gpu_pass("compact", "ssr::ssr_hdrp_emit", n as u32, &[], consts, &[gbuf, offsets], count.max(1), None)?,
         };
@@ -514,10 +508,8 @@ impl<'a> Runner<'a> {
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
         ensure_color_pyramid(&p, color_pyr)?;
         match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("hits", || {
-                let mut out = vec![0.0f32; slots * HIT_STRIDE];
-                out.par_chunks_mut(HIT_STRIDE).enumerate().for_each(|(i, o)| hits::hit_record_slot(&p, gbuf, color_pyr, rays, i as u32, o, 0));
-                out
+            Backend::Cpu => Ok(self.cpu_pass("hits", slots * HIT_STRIDE, |out| {
+                out.par_chunks_mut(HIT_STRIDE).enumerate().for_each(|(i, o)| hits::hit_record_slot(&p, gbuf, color_pyr, rays, i as u32, o, 0))
             })),
             Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_ray_hits", slots as u32, &[], consts, &[gbuf, color_pyr, rays], slots * HIT_STRIDE, None),
         }
@@ -558,10 +550,8 @@ impl<'a> Runner<'a> {
         anyhow::ensure!(base_color.len() == 3 * n, "base colour has {} values, expected {}", base_color.len(), 3 * n);
         anyhow::ensure!(reflection.len() == 4 * n, "reflection has {} values, expected {}", reflection.len(), 4 * n);
         match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("specular", || {
-                let mut out = vec![0.0f32; n * SPECULAR_STRIDE];
-                out.par_chunks_mut(SPECULAR_STRIDE).enumerate().for_each(|(i, o)| kern::specular_term(&p, gbuf, base_color, lut, reflection, i as u32, o, 0));
-                out
+            Backend::Cpu => Ok(self.cpu_pass("specular", n * SPECULAR_STRIDE, |out| {
+                out.par_chunks_mut(SPECULAR_STRIDE).enumerate().for_each(|(i, o)| kern::specular_term(&p, gbuf, base_color, lut, reflection, i as u32, o, 0))
             })),
             Backend::Gpu(_) => self.gpu_pass(
                 "specular",

@@ -144,10 +144,8 @@ impl Runner<'_> {
         let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
         let n = (tx * ty) as usize;
         match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("classify", || {
-                let mut out = vec![0.0f32; n * TILE_STRIDE];
-                out.par_chunks_mut(TILE_STRIDE).enumerate().for_each(|(i, o)| kern::classify(&p, gbuf, i as u32, o, 0));
-                out
+            Backend::Cpu => Ok(self.cpu_pass("classify", n * TILE_STRIDE, |out| {
+                out.par_chunks_mut(TILE_STRIDE).enumerate().for_each(|(i, o)| kern::classify(&p, gbuf, i as u32, o, 0))
             })),
             Backend::Gpu(_) => self.gpu_pass("classify", "ssr::sssr_classify", n as u32, &[], consts, &[gbuf], n * TILE_STRIDE, None),
         }
@@ -175,12 +173,11 @@ impl Runner<'_> {
         );
         let n = tiles.len() / TILE_STRIDE;
         match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("compact", || {
-                let mut out = vec![0.0f32; n + 1];
-                stochastic::prefix_sum_tiles(tiles, n as u32, column, &mut out);
+            Backend::Cpu => {
+                let out = self.cpu_pass("compact", n + 1, |out| stochastic::prefix_sum_tiles(tiles, n as u32, column, out));
                 let rec = stochastic::dispatch_record(out[n].to_bits(), shader_kernels::WORKGROUP_SIZE);
-                (out, rec.to_vec())
-            })),
+                Ok((out, rec.to_vec()))
+            }
             Backend::Gpu(g) => {
                 let args = scan_pass_args(n, column);
                 let bufs = [
@@ -366,14 +363,15 @@ impl Runner<'_> {
         let rays = ray_offsets[n].to_bits() as usize;
         let eligible = pixel_offsets[n].to_bits() as usize;
         let (mut list, mut pixels) = match self.backend {
-            Backend::Cpu => self.cpu_timed("compact", || {
-                let mut list = vec![0.0f32; rays.max(1) * LIST_STRIDE];
-                let mut pixels = vec![0.0f32; eligible.max(1)];
-                for t in 0..n as u32 {
-                    kern::emit(&p, gbuf, ray_offsets, pixel_offsets, t, &mut list, &mut pixels);
-                }
+            Backend::Cpu => {
+                let (mut list, mut pixels) = (runner::cpu::touched_zeros(rays.max(1) * LIST_STRIDE), runner::cpu::touched_zeros(eligible.max(1)));
+                self.cpu_timed("compact", || {
+                    for t in 0..n as u32 {
+                        kern::emit(&p, gbuf, ray_offsets, pixel_offsets, t, &mut list, &mut pixels);
+                    }
+                });
                 (list, pixels)
-            }),
+            }
             Backend::Gpu(g) => {
                 let (args, (gx, gy)) = pass_args(n as u32, &[]);
                 let ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args), bytemuck::bytes_of(consts), bytemuck::cast_slice(gbuf), bytemuck::cast_slice(ray_offsets), bytemuck::cast_slice(pixel_offsets)];
@@ -444,12 +442,10 @@ impl Runner<'_> {
         let n = (p.width * p.height) as usize;
         anyhow::ensure!(prev_gbuf.len() == gbuf.len(), "previous G-buffer has {} values, expected {}", prev_gbuf.len(), gbuf.len());
         match self.backend {
-            Backend::Cpu => Ok(self.cpu_timed("temporal", || {
-                let mut out = vec![0.0f32; n * HISTORY_STRIDE];
+            Backend::Cpu => Ok(self.cpu_pass("temporal", n * HISTORY_STRIDE, |out| {
                 out.par_chunks_mut(HISTORY_STRIDE).enumerate().for_each(|(i, o)| {
                     kern::temporal(&p, gbuf, prev_gbuf, hit_distance, current, history, i as u32, o, 0)
-                });
-                out
+                })
             })),
             Backend::Gpu(_) => self.gpu_pass(
                 "temporal",

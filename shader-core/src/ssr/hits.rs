@@ -11,26 +11,23 @@
 //! resolve's mip clamps to 0, `super::resolve::hit_color`).
 
 use super::params::{SsrParams, FLAG_FIS};
-use super::resolve::{edge_of_screen_fade, hit_colors_stored, hit_position, load_ray_hit, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
+use super::resolve::{edge_of_screen_fade, hit_colors_stored, hit_position, load_ray_hit, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_TAN_HALF, HIT_UV};
 use super::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_pdf_at_hit, MIRROR_ROUGHNESS};
 use super::trace::{load_surface, RAY_PDF, RAY_STRIDE};
 use crate::buffer::{load, store};
 
 /// Write the hit record of ray slot `slot` (pixel `slot / samples_per_pixel`, in the ray records'
 /// order) at `out[ob..ob + HIT_STRIDE]`, its colour sampled from the colour pyramid `color` where
-/// the resolves use it (`super::resolve::hit_colors_stored`; zeros otherwise); zeros when the slot
-/// holds no hitting ray.
+/// the resolves use it (`super::resolve::hit_colors_stored`); nothing when the slot holds no
+/// hitting ray. The record's output starts zeroed on both backends (a new GPU buffer, the CPU
+/// launchers' zeroed records and buffers), so the slots of misses and the colour words left
+/// unwritten read as zeros, and no pass reads a miss's record.
 #[inline]
 pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], slot: u32, out: &mut [f32], ob: usize) {
     // The ray's hit and its pdf: five of its record's eight words (not its direction).
     let rb = (slot as usize) * RAY_STRIDE;
     let (hit, hx, hy) = load_ray_hit(rays, rb);
     if !hit {
-        let mut k = 0;
-        while k < HIT_STRIDE {
-            store(out, ob + k, 0.0);
-            k += 1;
-        }
         return;
     }
     let pdf = load(rays, rb + RAY_PDF);
