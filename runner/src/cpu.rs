@@ -50,7 +50,7 @@ pub fn eval_table_into(f: &FunctionInfo, input: &[f32], rows: usize, out: &mut [
 /// A zeroed output buffer of `len` floats whose pages are already mapped (one write per 4 KiB
 /// page): a timed CPU pass that fills it measures its kernel, not the page faults of a fresh
 /// allocation, as the GPU backend's buffers exist before its timed dispatch (a 1080p pass's
-/// output of 33-66 MB costs 5-15 ms of faults on two cores).
+/// output of 33-91 MB cost up to 25 ms of faults on two cores: the hits pass, docs/ssr.md).
 pub fn touched_zeros(len: usize) -> Vec<f32> {
     let mut v = vec![0.0f32; len];
     for i in (0..len).step_by(1024) {
