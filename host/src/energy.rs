@@ -412,7 +412,7 @@ fn chunked_sums<A: TableKernel>(
                 add(per_chunk, c);
             }
         }
-        total = Some(match total { Some(x) => x.add(t), None => t });
+        total = Some(match total { Some(x) => x + t, None => t });
         k += n;
         pb.inc(u64::from(n));
     }

@@ -288,7 +288,7 @@ mod tests {
         let mut buf = Vec::new();
         write_csv(f, &t, &[1.0 / 3.0], &mut buf).unwrap();
         let text = String::from_utf8(buf).unwrap();
-        let last: f32 = text.lines().nth(1).unwrap().split(',').last().unwrap().parse().unwrap();
+        let last: f32 = text.lines().nth(1).unwrap().split(',').next_back().unwrap().parse().unwrap();
         assert_eq!(last.to_bits(), (1.0f32 / 3.0).to_bits());
     }
 

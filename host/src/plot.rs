@@ -50,6 +50,7 @@ impl Axis {
             _ => None,
         }
     }
+    #[allow(clippy::wrong_self_convention)] // the inverse of `to_chart`, on the axis's scale
     fn from_chart(&self, c: f64) -> f64 {
         match self.scale {
             Scale::Linear => c,

@@ -65,21 +65,6 @@ pub fn shell_word(word: &str) -> String {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn shell_words_quote_what_a_shell_would_split_or_expand() {
-        use super::shell_word;
-        assert_eq!(shell_word("--width"), "--width");
-        assert_eq!(shell_word("out/a.md"), "out/a.md");
-        assert_eq!(shell_word("gpu:22.3.6,cpu"), "gpu:22.3.6,cpu");
-        assert_eq!(shell_word("--scene floor --pipeline sssr"), "'--scene floor --pipeline sssr'");
-        assert_eq!(shell_word("it's"), "'it'\\''s'");
-        assert_eq!(shell_word("$HOME"), "'$HOME'");
-        assert_eq!(shell_word(""), "''");
-    }
-}
-
 impl RunInfo {
     /// Start recording: the command line ([`command_line`]), the machine and the current load average.
     pub fn start(adapter: Option<String>) -> RunInfo {
@@ -115,4 +100,19 @@ pub fn write_json<R: Serialize>(report: &Path, mut info: RunInfo, rows: &[R]) ->
     let text = serde_json::to_string_pretty(&Doc { run: info, rows })?;
     crate::io::write_file(&path, text + "\n")?;
     Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn shell_words_quote_what_a_shell_would_split_or_expand() {
+        use super::shell_word;
+        assert_eq!(shell_word("--width"), "--width");
+        assert_eq!(shell_word("out/a.md"), "out/a.md");
+        assert_eq!(shell_word("gpu:22.3.6,cpu"), "gpu:22.3.6,cpu");
+        assert_eq!(shell_word("--scene floor --pipeline sssr"), "'--scene floor --pipeline sssr'");
+        assert_eq!(shell_word("it's"), "'it'\\''s'");
+        assert_eq!(shell_word("$HOME"), "'$HOME'");
+        assert_eq!(shell_word(""), "''");
+    }
 }

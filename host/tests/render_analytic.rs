@@ -328,7 +328,7 @@ fn environment_map_density_is_consistent_and_normalized() {
     }
     // The density integrates to 1 over the sphere (midpoint rule on a fine (theta, phi) grid).
     let pdf = |d: Vec3| shader_core::pt::environment::pdf(words, d) as f64;
-    let integral = sphere_integral(|d| pdf(d));
+    let integral = sphere_integral(pdf);
     assert!((integral - 1.0).abs() < 5e-3, "density integrates to {integral}");
     // Samples land in proportion to the density: the hot spot's share of samples against its
     // share of the integral.

@@ -4,12 +4,12 @@
 //! E = int f cos dwi is written over the half vector wm with the NDF-sampling measure D(wm) cos
 //! theta_m dwm = du dphi / (2 pi), u = tan^2 / (alpha^2 + tan^2) (Walter et al. 2007 eq. 35):
 //! E(mu) = (1 / pi) int_0^pi dphi int_0^{u_cut(phi)} G2(wo, wi) (wo.wm) / (mu cos theta_m) du,
-//! with wi = reflect(wo, wm) and the exact horizon cut: wi.z = s sin 2theta cos phi + mu cos 2theta
-//! > 0  <=>  theta < theta_cut = (pi/2 + atan2(s cos phi, mu)) / 2. Inside the cut the integrand is
-//! smooth (G2 goes linearly to 0 at the cut), so composite Gauss-Legendre converges fast; the u
-//! panels are graded geometrically toward the cut (where small alpha puts all the structure in a
-//! sliver of u) and the phi panels are uniform. E' carries (1 - wo.wm)^5. E_avg = 2 int E mu dmu
-//! by Gauss-Legendre over mu, graded toward mu = 0.
+//! with wi = reflect(wo, wm) and the exact horizon cut: wi.z = s sin 2theta cos phi + mu cos
+//! 2theta > 0  <=>  theta < theta_cut = (pi/2 + atan2(s cos phi, mu)) / 2. Inside the cut the
+//! integrand is smooth (G2 goes linearly to 0 at the cut), so composite Gauss-Legendre converges
+//! fast; the u panels are graded geometrically toward the cut (where small alpha puts all the
+//! structure in a sliver of u) and the phi panels are uniform. E' carries (1 - wo.wm)^5. E_avg =
+//! 2 int E mu dmu by Gauss-Legendre over mu, graded toward mu = 0.
 //!
 //! Nothing here shares code with the kernels (no f32, no sampling); `tests/tests/energy_properties.rs`
 //! checks its convergence by doubling the node counts.

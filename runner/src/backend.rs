@@ -173,7 +173,7 @@ impl Backend {
                         )
                         .with_context(|| format!("{}: rows {start}..{}", f.name, start + n))?;
                     out.extend_from_slice(&bytemuck::pod_collect_to_vec::<u8, f32>(&res[0]));
-                    total = Some(match total { Some(a) => a.add(t), None => t });
+                    total = Some(match total { Some(a) => a + t, None => t });
                     start += n;
                 }
                 Ok(total.expect("at least one dispatch"))
@@ -225,7 +225,7 @@ impl Backend {
                         .dispatch(entry, &bufs, &[OutputSpec::zeroed(n * stride * 4)], (gx, gy, 1))
                         .with_context(|| format!("{entry}: invocations {start}..{}", start + n))?;
                     out[start * stride..(start + n) * stride].copy_from_slice(&bytemuck::pod_collect_to_vec::<u8, f32>(&res[0]));
-                    total = Some(match total { Some(x) => x.add(t), None => t });
+                    total = Some(match total { Some(x) => x + t, None => t });
                     start += n;
                 }
                 Ok((out, total.expect("at least one dispatch")))

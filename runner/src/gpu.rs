@@ -674,7 +674,7 @@ impl OutputSpec<'_> {
 }
 
 fn padded(data: &[u8]) -> Cow<'_, [u8]> {
-    if data.len() >= 4 && data.len() % 4 == 0 {
+    if data.len() >= 4 && data.len().is_multiple_of(4) {
         Cow::Borrowed(data)
     } else {
         let mut v = data.to_vec();

@@ -9,6 +9,8 @@ use shader_manifest::entry_point::EntryPoints;
 use std::collections::HashMap;
 use std::sync::Mutex;
 
+// Two values per backend: the size difference does not matter.
+#[allow(clippy::large_enum_variant)]
 enum Source {
     /// One driver module holding every entry point.
     Whole(wgpu::ShaderModule),

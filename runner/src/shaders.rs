@@ -116,7 +116,7 @@ pub fn load_checked(spv: &[u8], manifest_json: &str, source_hash: &str) -> Resul
     }
     let manifest = Manifest::from_json(manifest_json)?;
     manifest.check_fresh(source_hash)?;
-    if spv.len() % 4 != 0 {
+    if !spv.len().is_multiple_of(4) {
         return Err(format!("{SPV_PATH} is {} bytes, not a whole number of 32-bit words", spv.len()));
     }
     if spv.len() as u64 != manifest.spv_bytes {

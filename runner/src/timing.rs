@@ -25,9 +25,10 @@ pub struct Timing {
     pub source: TimingSource,
 }
 
-impl Timing {
-    /// Sum of two timings; wall clock wins if either is wall clock.
-    pub fn add(self, o: Timing) -> Timing {
+/// Sum of two timings; wall clock wins if either is wall clock.
+impl std::ops::Add for Timing {
+    type Output = Timing;
+    fn add(self, o: Timing) -> Timing {
         let source = if self.source == o.source { self.source } else { TimingSource::WallClock };
         Timing { seconds: self.seconds + o.seconds, source }
     }

@@ -46,6 +46,22 @@
 //! assert!(lobe > 0.0 && lobe.is_finite());
 //! ```
 #![no_std]
+// Clippy suggestions this crate does not take. NaN: `!(x > 0.0)` sends a NaN to the branch the
+// function documents, which `x <= 0.0` would not (`neg_cmp_op_on_partial_ord`). Kernel code is
+// written with plain operators, so the SPIR-V rust-gpu emits is what the source says and the
+// committed, cross-checked modules do not move: no `f32::clamp` / `Ord::clamp` (they assert
+// min <= max, a panic path in every kernel), `div_ceil`, `rotate_left`, `mem::swap` or
+// `Range::contains` for the comparisons and integer steps they stand for, and `a = a + b` where
+// the vector types have no compound assignment.
+#![allow(
+    clippy::neg_cmp_op_on_partial_ord,
+    clippy::manual_clamp,
+    clippy::manual_div_ceil,
+    clippy::manual_rotate,
+    clippy::manual_swap,
+    clippy::manual_range_contains,
+    clippy::assign_op_pattern
+)]
 
 pub mod buffer;
 pub mod bxdf;

@@ -70,6 +70,8 @@ const PIO2_C4: f32 = 9.895302e-10; // 8 significant bits
 const PIO2_C5: f32 = 2.5579538e-12; // 8 significant bits
 const PIO2_C6: f32 = 5.3845817e-15; // 8 significant bits
 const PIO2_C7: f32 = 5.721189e-18; // remainder after C7: -1.903e-25
+// The high part of a Cody-Waite split of pi/2, not pi/2 itself (clippy takes it for FRAC_PI_2).
+#[allow(clippy::approx_constant)]
 const PIO2_S1: f32 = 1.570796; // 21 significant bits: k * S1 exact for |k| < 8
 const PIO2_S2: f32 = 3.1391642e-7; // 21 significant bits
 const PIO2_S3: f32 = 6.223372e-14; // remainder after S3: 2.022e-21

@@ -12,6 +12,9 @@
 //! ([`ssr_subgroup`]). rust-gpu declares capabilities for a whole module and a device without
 //! them cannot load it, so the host loads the second module only where the adapter has subgroups.
 #![no_std]
+// As in shader-core (its lib.rs says why): NaN-routing negated comparisons and plain integer
+// steps instead of library calls. An entry point takes one argument per buffer it binds.
+#![allow(clippy::neg_cmp_op_on_partial_ord, clippy::manual_div_ceil, clippy::too_many_arguments)]
 
 #[cfg(not(feature = "subgroup-module"))]
 pub mod energy;

@@ -26,6 +26,7 @@ pub trait Domain: Sync {
     /// The unit-square coordinates of direction `w`, or `None` where the domain has no point for it.
     fn to_unit(&self, w: [f64; 3]) -> Option<(f64, f64)>;
     /// The direction at (u, v) and the Jacobian |d omega / (du dv)| there (0: no direction).
+    #[allow(clippy::wrong_self_convention)] // the inverse of `to_unit`, for this domain
     fn from_unit(&self, u: f64, v: f64) -> ([f64; 3], f64);
 }
 

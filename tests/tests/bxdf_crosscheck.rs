@@ -200,7 +200,7 @@ fn sample_rows(dirs: &[[f32; 3]], params: &[Vec<f32>]) -> Vec<f32> {
     for (k, wo) in dirs.iter().enumerate() {
         for (i, uu) in u.iter().enumerate() {
             for (j, p) in params.iter().enumerate() {
-                if (i + j * u.len() + k) % thin != 0 {
+                if !(i + j * u.len() + k).is_multiple_of(thin) {
                     continue;
                 }
                 rows.extend_from_slice(wo);

@@ -939,7 +939,7 @@ fn sample_f_agrees_with_f_and_pdf() {
             "  {name:<46} {:>7} {:>7} {:>6} {:>10.2e} {:>10.2e} {:>9.2e} {:>7.3}",
             c.samples, c.valid, c.specular, c.max_pdf_rel, c.max_f_rel, c.max_rel_per_cond, c.max_excess
         ));
-        if !(c.valid > c.samples / 3) {
+        if c.valid <= c.samples / 3 {
             failures.push(format!("{name}: too few valid samples"));
         }
         if !(c.max_excess <= 1.0) {

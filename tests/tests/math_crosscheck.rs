@@ -12,7 +12,7 @@ fn scalars() -> Vec<f32> {
         v.push(-1.0 + 2.0 * t); // asin, acos, erf, log1p near the edges
     }
     for e in -40..=38 {
-        for m in [1.0f32, 1.234_567, 3.141_592_7, 7.5] {
+        for m in [1.0f32, 1.234_567, std::f32::consts::PI, 7.5] {
             v.push(m * 10f32.powi(e));
             v.push(-m * 10f32.powi(e));
         }
@@ -43,7 +43,7 @@ fn binary_elementary_functions_are_bit_exact() {
     for i in 0..50_000 {
         let t = i as f32 / 50_000.0;
         rows.extend_from_slice(&[0.01 + 4.0 * t, -3.0 + 6.0 * t]);
-        rows.extend_from_slice(&[(6.283 * t).cos(), (6.283 * t).sin()]);
+        rows.extend_from_slice(&[(std::f32::consts::TAU * t).cos(), (std::f32::consts::TAU * t).sin()]);
     }
     let cmp = compare_table(gpu, "math_binary", &rows);
     eprintln!("{}", cmp.report());

@@ -88,7 +88,7 @@ fn cornell_box_progressive_launches() {
 fn feature_scene() -> (Scene, env::Environment) {
     let mut b = SceneBuilder::new("test: every material feature");
     let n = 16u32;
-    let checker: Vec<u8> = (0..n * n).flat_map(|i| if ((i % n) / 4 + (i / n) / 4) % 2 == 0 { [230, 200, 40, 255] } else { [30, 60, 200, 120] }).collect();
+    let checker: Vec<u8> = (0..n * n).flat_map(|i| if ((i % n) / 4 + (i / n) / 4).is_multiple_of(2) { [230, 200, 40, 255] } else { [30, 60, 200, 120] }).collect();
     let bumps: Vec<u8> = (0..n * n).flat_map(|i| [128 + ((i % n) as u8) * 6, 128 - ((i / n) as u8) * 5, 230, 255]).collect();
     let tex = |name: &str, rgba: Vec<u8>, wrap: Wrap, nearest: bool| Texture { name: name.into(), width: n, height: n, rgba, wrap_s: wrap, wrap_t: Wrap::Mirror, nearest };
     let t_base = b.texture(tex("checker", checker, Wrap::Repeat, false)).unwrap();

@@ -233,9 +233,9 @@ fn parallel_scan_and_indirect_trace_match_cpu() {
                 state ^= state << 13;
                 state ^= state >> 7;
                 state ^= state << 17;
-                let rays = if state % 5 == 0 { 0 } else { (state >> 40) as u32 % 257 };
-                let eligible = if state % 7 == 0 { 0 } else { (state >> 20) as u32 % 65 };
-                let valid = if state % 5 == 0 { 0 } else { (state >> 13) as u32 % 65 };
+                let rays = if state.is_multiple_of(5) { 0 } else { (state >> 40) as u32 % 257 };
+                let eligible = if state.is_multiple_of(7) { 0 } else { (state >> 20) as u32 % 65 };
+                let valid = if state.is_multiple_of(5) { 0 } else { (state >> 13) as u32 % 65 };
                 [f32::from_bits(1), f32::from_bits(rays), f32::from_bits(eligible), f32::from_bits(valid)]
             })
             .collect();

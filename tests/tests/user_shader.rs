@@ -59,7 +59,7 @@ fn rows() -> Vec<f32> {
     let mut rows = Vec::new();
     let mut k = 0usize;
     let mut push = |wo: [f32; 3], wi: [f32; 3], (ax, ay): (f32, f32), rows: &mut Vec<f32>| {
-        let f0 = if k % 3 == 0 { 1.0 } else { 0.04 };
+        let f0 = if k.is_multiple_of(3) { 1.0 } else { 0.04 };
         k += 1;
         rows.extend_from_slice(&[wo[0], wo[1], wo[2], wi[0], wi[1], wi[2], ax, ay, f0]);
     };

@@ -44,7 +44,7 @@ pub fn ensure(root: &Path) -> Result<PathBuf> {
     if let Some(why) = unsupported_reason() {
         bail!("Mesa {MESA_VERSION} lavapipe cannot run here: {why}");
     }
-    let dir = root.join("target/lavapipe").join(format!("mesa-{}", MESA_VERSION.replace('~', "_").replace('+', "_")));
+    let dir = root.join("target/lavapipe").join(format!("mesa-{}", MESA_VERSION.replace(['~', '+'], "_")));
     let driver = dir.join("root/usr/lib/x86_64-linux-gnu/libvulkan_lvp.so");
     let icd = dir.join("lvp_icd.json");
     if driver.exists() && icd.exists() {

@@ -81,7 +81,7 @@ pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBuff
                 }
             }
         }
-        time = Some(match time { Some(a) => a.add(t), None => t });
+        time = Some(match time { Some(a) => a + t, None => t });
         done += n;
         progress(done);
     }
@@ -294,7 +294,7 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
             }
         }
         sum.samples = spec.reference_spp;
-        Ok((sum, ta.add(tb), noise))
+        Ok((sum, ta + tb, noise))
     });
     progress.finish();
     let (sums, gbuffer_time, (noise, noise_var)) = r?;

@@ -149,7 +149,7 @@ pub fn render(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams,
         let p = RenderParams { spp: n, sample_base: base.sample_base + acc.spp, ..*base };
         let (out, t) = launch(backend, inputs, &p).with_context(|| format!("render launch at sample {}", acc.spp))?;
         acc.add(&out, n);
-        time = Some(match time { Some(a) => a.add(t), None => t });
+        time = Some(match time { Some(a) => a + t, None => t });
         progress(acc.spp);
     }
     Ok((acc.image(), time.unwrap_or(Timing { seconds: 0.0, source: TimingSource::WallClock })))

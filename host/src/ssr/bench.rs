@@ -453,8 +453,8 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
             }
             let cut = cut_frame.as_ref().expect("made above");
             let s_cut = SsrSettings { frame: t.temporal_frames - 1, ..s.clone() };
-            let r = run_config_frames(cpu, &before, &cut, &s_cut, &c, t.temporal_frames - 1, None)?;
-            let fresh = run_config_frames(cpu, &before, &cut, &s_cut, &c, t.temporal_frames - 1, Some(1))?;
+            let r = run_config_frames(cpu, &before, cut, &s_cut, &c, t.temporal_frames - 1, None)?;
+            let fresh = run_config_frames(cpu, &before, cut, &s_cut, &c, t.temporal_frames - 1, Some(1))?;
             Some((errors(&r, reference, sky).onscreen.rel, errors(&fresh, reference, sky).onscreen.rel))
         } else {
             None

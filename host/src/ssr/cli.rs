@@ -468,7 +468,7 @@ pub fn lit_frame(colour: &[f32], specular: &[f32]) -> Vec<f32> {
 }
 
 /// The lit frame EXR (`<stem>.lit.exr`: `R G B`, and `reference.R/G/B` = the same scene colour
-/// + the reference's specular integral over all geometry) and its PNGs (`.lit.png`,
+/// plus the reference's specular integral over all geometry) and its PNGs (`.lit.png`,
 /// `.lit_reference.png`).
 fn write_lit(out: &Path, w: usize, h: usize, lit: &[f32], lit_reference: Option<&[f32]>) -> Result<Vec<PathBuf>> {
     let n = w * h;

@@ -14,8 +14,8 @@
 //!
 //! Optional channel [`DEPTH_FAR_CHANNEL`]: the far depth, the largest linear view depth that the
 //! object seen at the pixel centre shows within one pixel of it (the maximum over primary rays
-//! through a 5x5 grid of points in [-1, 1]^2 px around the centre that hit the same object;
-//! >= `depth`; `+inf` for the sky): the depth extent of the texel's visible surface. The
+//! through a 5x5 grid of points in [-1, 1]^2 px around the centre that hit the same object; at
+//! least `depth`; `+inf` for the sky): the depth extent of the texel's visible surface. The
 //! tracers' mip-0 slab then ends where that surface does (`shader_core::ssr::trace::slab_base`);
 //! G-buffers without it keep HDRP's constant slab.
 

@@ -365,6 +365,7 @@ pub(crate) fn store_resolved(p: &SsrParams, s: &Surface, acc: Vec3, acc_a: f32, 
 /// HDRP reprojection with `SSR_APPROX`: the hit is reprojected through the motion vectors, the
 /// previous frame's colour pyramid is sampled at mip lerp(0, maxMip, perceptualRoughness), and
 /// the result is premultiplied by opacity = EdgeOfScreenFade(prevUV) * PerceptualRoughnessFade.
+#[allow(clippy::too_many_arguments)]
 pub fn hdrp_reproject_approx(
     p: &SsrParams,
     gbuf: &[f32],

@@ -113,7 +113,7 @@ impl SceneBuilder {
             Some(ix) => ix.clone(),
             None => (0..nv as u32).collect(),
         };
-        if indices.len() % 3 != 0 {
+        if !indices.len().is_multiple_of(3) {
             bail!("{name}: {} indices is not a multiple of 3", indices.len());
         }
         if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i as usize >= nv) {

@@ -78,7 +78,7 @@ impl GltfWriter {
 
     /// Append `bytes` as a buffer view (4-byte aligned) and an accessor over it.
     fn accessor(&mut self, bytes: &[u8], component: u32, kind: &str, count: usize, target: u32, bounds: Option<([f32; 3], [f32; 3])>) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let view = self.buffer_views.len();
