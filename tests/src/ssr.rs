@@ -4,7 +4,7 @@
 use crate::assert_bits_equal;
 use host::ssr::pipeline::Runner;
 use shader_core::ssr::params::{SsrParams, REPROJECT_HIT, REPROJECT_SURFACE};
-use shader_core::ssr::resolve::HIT_STRIDE;
+use shader_core::ssr::resolve::{hit_footprints_stored, HIT_STRIDE, HIT_TAN_HALF, HIT_UV};
 use shader_core::ssr::stochastic::{HISTORY_STRIDE, LIST_STRIDE, TILE_ELIGIBLE, TILE_RAYS, TILE_STRIDE};
 use shader_core::ssr::trace::RAY_STRIDE;
 
@@ -47,6 +47,13 @@ pub fn sssr_passes_bit_equal(tag: &str, c: &mut Runner, q: &mut Runner, consts: 
     assert_bits_equal(&format!("{tag} hit records"), HIT_STRIDE, &hits, &q.sssr_hits(consts, gbuf, cp, &rays, &list).unwrap());
     // Over the list or over every slot: the same records (slots without a ray are zero in both).
     assert_bits_equal(&format!("{tag} hit records, list = every slot"), HIT_STRIDE, &hits, &c.ray_hits(consts, gbuf, cp, &rays).unwrap());
+    // The UV and cone words are written where a resolve reads them, and only there.
+    let footprints = hits.chunks(HIT_STRIDE).filter(|r| r[HIT_UV] != 0.0 || r[HIT_UV + 1] != 0.0 || r[HIT_TAN_HALF] != 0.0).count();
+    if hit_footprints_stored(consts) {
+        assert!(footprints > 0, "{tag}: no hit record has its UV or cone");
+    } else {
+        assert_eq!(footprints, 0, "{tag}: hit records with a UV or cone no resolve reads");
+    }
     let reflection = c.sssr_resolve(consts, gbuf, cp, &rays, &hits, &pixels).unwrap();
     assert_bits_equal(&format!("{tag} resolve"), 4, &reflection, &q.sssr_resolve(consts, gbuf, cp, &rays, &hits, &pixels).unwrap());
     // A colour pyramid of the wrong size is refused, by name, by every pass that reads it.

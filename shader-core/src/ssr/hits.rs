@@ -11,7 +11,7 @@
 //! resolve's mip clamps to 0, `super::resolve::hit_color`).
 
 use super::params::{SsrParams, FLAG_FIS};
-use super::resolve::{edge_of_screen_fade, hit_colors_stored, hit_position, load_ray_hit, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_TAN_HALF, HIT_UV};
+use super::resolve::{edge_of_screen_fade, hit_colors_stored, hit_footprints_stored, hit_position, load_ray_hit, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_TAN_HALF, HIT_UV};
 use super::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_pdf_at_hit, MIRROR_ROUGHNESS};
 use super::trace::{load_surface, RAY_PDF, RAY_STRIDE};
 use crate::buffer::{load, store};
@@ -39,11 +39,13 @@ pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32],
     store(out, ob + 1, hp.y);
     store(out, ob + 2, hp.z);
     store(out, ob + HIT_PDF, ray_pdf_at_hit(p, &sq, hp, pdf));
-    store(out, ob + HIT_UV, u);
-    store(out, ob + HIT_UV + 1, v);
     store(out, ob + HIT_FADE, edge_of_screen_fade(u, v, p.edge_fade_rcp_length));
     let tan_half = fis_tan_half(pdf, fis_rays_in_window(p));
-    store(out, ob + HIT_TAN_HALF, tan_half);
+    if hit_footprints_stored(p) {
+        store(out, ob + HIT_UV, u);
+        store(out, ob + HIT_UV + 1, v);
+        store(out, ob + HIT_TAN_HALF, tan_half);
+    }
     if hit_colors_stored(p) {
         // The mip the resolve would use for this ray at its own pixel (mip 0 without filtered
         // importance sampling or for a mirror pixel, whose ray no other pixel reuses).

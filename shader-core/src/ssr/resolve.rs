@@ -265,7 +265,8 @@ pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
 /// ([`HIT_FADE`]), the filtered-importance-sampling cone's half-angle tangent ([`HIT_TAN_HALF`])
 /// and the colour pyramid's sample at (u, v), r g b ([`HIT_COLOR`], where [`hit_colors_stored`]:
 /// at mip 0, or with [`FLAG_RAY_COLOR`] at the ray's own footprint). Only slots whose ray hit
-/// are written; the rest stay zero.
+/// are written, their UV and cone only where a resolve reads them ([`hit_footprints_stored`]);
+/// the rest stay zero.
 pub const HIT_STRIDE: usize = 11;
 /// Offset of the pdf in a hit record (after the position).
 pub const HIT_PDF: usize = 3;
@@ -297,6 +298,16 @@ pub fn load_hit_pos_pdf(hits: &[f32], b: usize) -> (Vec3, f32) {
 #[inline]
 pub fn hit_colors_stored(p: &SsrParams) -> bool {
     p.flags & FLAG_FIS == 0 || p.flags & FLAG_RAY_COLOR != 0
+}
+
+/// Does a resolve read a hit record's previous-frame UV ([`HIT_UV`]) and cone ([`HIT_TAN_HALF`])?
+/// Only the stochastic resolve with filtered importance sampling at each resolving pixel's
+/// footprint (without [`FLAG_RAY_COLOR`]) samples the colour pyramid per (pixel, ray) pair; every
+/// other resolve takes the colour the hits pass stored ([`hit_colors_stored`]), so the hits pass
+/// leaves these three words zero.
+#[inline]
+pub fn hit_footprints_stored(p: &SsrParams) -> bool {
+    p.flags & FLAG_FIS != 0 && p.flags & FLAG_RAY_COLOR == 0
 }
 
 /// The colour stored in the hit record at `hits[hb..]` ([`HIT_COLOR`]).
