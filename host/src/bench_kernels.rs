@@ -85,6 +85,32 @@ pub struct KernelRow {
     pub exact_over_wgsl: Option<f64>,
 }
 
+impl KernelRow {
+    /// The row of function `name` with its CPU figures and no GPU figures yet.
+    pub fn cpu_only(name: &str, group: &str, entry_point: &str, c: CpuRates) -> KernelRow {
+        KernelRow {
+            name: name.into(),
+            group: group.into(),
+            entry_point: entry_point.into(),
+            cpu_rate: c.rate,
+            cpu_median_rate: c.median_rate,
+            cpu_one_thread_rate: c.one_thread_rate,
+            cpu_scaling: c.scaling,
+            cpu_scaling_median: c.scaling_median,
+            gpu_rate: None,
+            gpu_median_rate: None,
+            gpu_timing: None,
+            gpu_compile_seconds: None,
+            gpu_native_rate: None,
+            gpu_native_compile_seconds: None,
+            exact_slowdown: None,
+            wgsl_rate: None,
+            rust_gpu_over_wgsl: None,
+            exact_over_wgsl: None,
+        }
+    }
+}
+
 /// The whole report, as written to JSON.
 #[derive(Clone, Debug, Serialize)]
 pub struct KernelReport {
@@ -355,28 +381,7 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     for f in selected {
         pb.set_message(f.name);
         let input = bench_inputs(f, rows);
-        let CpuRates { rate: cpu_rate, median_rate: cpu_median_rate, one_thread_rate: cpu_one_thread_rate, scaling: cpu_scaling, scaling_median: cpu_scaling_median } =
-            time_cpu_scaling(&cpu, &one_thread, f, &input, rows, a.repeats)?;
-        let mut row = KernelRow {
-            name: f.name.into(),
-            group: f.group.into(),
-            entry_point: f.entry.into(),
-            cpu_rate,
-            cpu_median_rate,
-            cpu_one_thread_rate,
-            cpu_scaling,
-            cpu_scaling_median,
-            gpu_rate: None,
-            gpu_median_rate: None,
-            gpu_timing: None,
-            gpu_compile_seconds: None,
-            gpu_native_rate: None,
-            gpu_native_compile_seconds: None,
-            exact_slowdown: None,
-            wgsl_rate: None,
-            rust_gpu_over_wgsl: None,
-            exact_over_wgsl: None,
-        };
+        let mut row = KernelRow::cpu_only(f.name, f.group, f.entry, time_cpu_scaling(&cpu, &one_thread, f, &input, rows, a.repeats)?);
         if let Some(Backend::Gpu(g)) = &gpu {
             row.gpu_compile_seconds = Some(g.prepare(f.entry, 2, 1)?);
             let backend = gpu.as_ref().expect("GPU backend");
@@ -504,25 +509,8 @@ mod tests {
         assert!((r.scaling - r.rate / r.one_thread_rate).abs() <= 1e-9 * r.scaling, "{r:?}");
         assert!(r.scaling_median > 0.0 && r.scaling_median.is_finite(), "{r:?}");
 
-        let row = |name: &str, scaling: f64| KernelRow {
-            name: name.into(),
-            group: "g".into(),
-            entry_point: "e".into(),
-            cpu_rate: 2.0e6,
-            cpu_median_rate: 1.0e6,
-            cpu_one_thread_rate: 1.0e6,
-            cpu_scaling: scaling,
-            cpu_scaling_median: 1.5,
-            gpu_rate: None,
-            gpu_median_rate: None,
-            gpu_timing: None,
-            gpu_compile_seconds: None,
-            gpu_native_rate: None,
-            gpu_native_compile_seconds: None,
-            exact_slowdown: None,
-            wgsl_rate: None,
-            rust_gpu_over_wgsl: None,
-            exact_over_wgsl: None,
+        let row = |name: &str, scaling: f64| {
+            KernelRow::cpu_only(name, "g", "e", CpuRates { rate: 2.0e6, median_rate: 1.0e6, one_thread_rate: 1.0e6, scaling, scaling_median: 1.5 })
         };
         let report = KernelReport {
             command: "host bench kernels".into(),
