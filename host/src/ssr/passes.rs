@@ -283,6 +283,20 @@ fn markdown(
         .map(|ci| if same[ci].iter().all(|&b| b) { "same".into() } else { "DIFFERENT".to_string() })
         .collect();
     let _ = writeln!(s, "| reflection + specular bits | {} |", bits.join(" | "));
+    for (ri, r) in devices.iter().enumerate().filter(|(_, d)| matches!(d.backend, Backend::Cpu)) {
+        let lines: Vec<String> = (0..devices.len())
+            .filter(|&di| di != ri)
+            .map(|di| against(configs.len(), &passes, &best, di, ri).describe(&devices[di].label))
+            .collect();
+        if !lines.is_empty() {
+            let _ = writeln!(s, "
+Against `{}` (fastest times; configurations by number):
+", r.label);
+            for l in lines {
+                let _ = writeln!(s, "* {l}");
+            }
+        }
+    }
     if let (Some(b), Some(path)) = (baseline, &a.baseline) {
         let _ = writeln!(s, "\nThis run's fastest time over the baseline's (`{}`), same cells:\n", path.display());
         pass_table(&mut s, configs.len(), &passes, |ci, p| {
@@ -298,6 +312,54 @@ fn markdown(
     s
 }
 
+/// How one backend's times compare with a reference backend's, cell by cell.
+#[derive(Debug, PartialEq)]
+struct Against {
+    /// Pass cells (configuration, pass; frames not counted) both backends ran.
+    cells: usize,
+    /// Of those, the ones where this backend was faster.
+    faster: usize,
+    /// Frames both ran, and the ones where this backend was faster.
+    frames: usize,
+    frames_faster: usize,
+    /// The cells where it was not faster: configuration index, pass, time over the reference's.
+    slower: Vec<(usize, String, f64)>,
+}
+
+impl Against {
+    fn describe(&self, label: &str) -> String {
+        let slower = if self.slower.is_empty() {
+            String::new()
+        } else {
+            let list: Vec<String> = self.slower.iter().map(|(ci, p, x)| format!("{} {p} {x:.2}x", ci + 1)).collect();
+            format!("; not faster: {}", list.join(", "))
+        };
+        format!("`{label}` faster on {} of {} pass cells and {} of {} frames{slower}", self.faster, self.cells, self.frames_faster, self.frames)
+    }
+}
+
+/// Backend `di` against backend `ri` over every (configuration, pass) cell both have a time for.
+fn against(configs: usize, passes: &[String], best: &impl Fn(usize, usize, &str) -> Option<f64>, di: usize, ri: usize) -> Against {
+    let mut a = Against { cells: 0, faster: 0, frames: 0, frames_faster: 0, slower: Vec::new() };
+    for ci in 0..configs {
+        for p in passes {
+            let (Some(t), Some(r)) = (best(ci, di, p), best(ci, ri, p)) else { continue };
+            let faster = t < r;
+            if p == "frame" {
+                a.frames += 1;
+                a.frames_faster += faster as usize;
+            } else {
+                a.cells += 1;
+                a.faster += faster as usize;
+                if !faster {
+                    a.slower.push((ci, p.clone(), t / r));
+                }
+            }
+        }
+    }
+    a
+}
+
 /// A table with a row per pass (the frame total in bold) and a column per configuration, each
 /// cell `cell(configuration index, pass)`.
 fn pass_table(s: &mut String, configs: usize, passes: &[String], cell: impl Fn(usize, &str) -> String) {
@@ -307,5 +369,38 @@ fn pass_table(s: &mut String, configs: usize, passes: &[String], cell: impl Fn(u
         let cells: Vec<String> = (0..configs).map(|ci| cell(ci, p)).collect();
         let name = if p == "frame" { "**frame**".to_string() } else { p.clone() };
         let _ = writeln!(s, "| {name} | {} |", cells.join(" | "));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn against_counts_faster_cells_and_lists_the_others() {
+        let passes: Vec<String> = ["trace", "hits", "frame"].iter().map(|p| p.to_string()).collect();
+        // best(config, device, pass): device 0 = reference; device 1 faster on the trace of both
+        // configurations, slower on config 0's hits, equal on config 1's; no hits for config 2.
+        let best = |ci: usize, di: usize, p: &str| -> Option<f64> {
+            match (ci, di, p) {
+                (2, _, "hits") => None,
+                (_, 0, "trace") => Some(100.0),
+                (_, 1, "trace") => Some(50.0),
+                (0, 0, "hits") => Some(10.0),
+                (0, 1, "hits") => Some(12.5),
+                (_, _, "hits") => Some(10.0),
+                (_, 0, "frame") => Some(110.0),
+                (_, 1, "frame") => Some(62.5),
+                _ => None,
+            }
+        };
+        let a = against(3, &passes, &best, 1, 0);
+        assert_eq!(
+            a,
+            Against { cells: 5, faster: 3, frames: 3, frames_faster: 3, slower: vec![(0, "hits".into(), 1.25), (1, "hits".into(), 1.0)] }
+        );
+        assert_eq!(a.describe("gpu"), "`gpu` faster on 3 of 5 pass cells and 3 of 3 frames; not faster: 1 hits 1.25x, 2 hits 1.00x");
+        let all = against(1, &passes, &|_: usize, di: usize, _: &str| Some(if di == 1 { 1.0 } else { 2.0 }), 1, 0);
+        assert_eq!(all.describe("gpu"), "`gpu` faster on 2 of 2 pass cells and 1 of 1 frames");
     }
 }
