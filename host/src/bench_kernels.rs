@@ -280,12 +280,13 @@ const CPU_SCALING_MAX_ROUNDS: usize = 100;
 /// alternation: rounds of one timed evaluation of each, each right after an untimed one on the
 /// same threads (so that neither pays for waking the cores the other left idle: on a virtual
 /// machine that alone cost up to half of a sub-millisecond evaluation); `repeats` rounds, more
-/// for a function whose evaluations on all threads would not fill [`CPU_SCALING_SECONDS`]
-/// (the cheapest take half a millisecond, within reach of one burst of load). The scaling is the ratio of the two series' fastest times, as every rate here is
-/// the fastest run: on a shared machine a burst of load on one core slows the all-thread runs
-/// it meets (the median of the per-round ratios is kept beside it). Two series timed one after
-/// the other instead put a burst in one series only (a recorded run gave 0.96x for `v_kelemen`
-/// that way, 1.8x in alternation).
+/// for a function whose evaluations on all threads would not fill [`CPU_SCALING_SECONDS`] (the
+/// cheapest take half a millisecond, within reach of one burst of load). The scaling is the
+/// ratio of the two series' fastest times, as every rate here is the fastest run: on a shared
+/// machine a burst of load on one core slows the all-thread runs it meets (the median of the
+/// per-round ratios is kept beside it). Two series timed one after the other instead put a
+/// burst in one series only (a recorded run gave 0.96x for `v_kelemen` that way, 1.8x in
+/// alternation).
 pub fn time_cpu_scaling(cpu: &Backend, one_thread: &rayon::ThreadPool, f: &FunctionInfo, input: &[f32], rows: usize, repeats: u32) -> Result<CpuRates> {
     let mut out = Vec::new();
     let warm = cpu.eval_table_into(f, input, rows, &mut out)?.seconds;
