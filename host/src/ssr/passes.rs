@@ -289,9 +289,7 @@ fn markdown(
             .map(|di| against(configs.len(), &passes, &best, di, ri).describe(&devices[di].label))
             .collect();
         if !lines.is_empty() {
-            let _ = writeln!(s, "
-Against `{}` (fastest times; configurations by number):
-", r.label);
+            let _ = writeln!(s, "\nAgainst `{}` (fastest times; configurations by number):\n", r.label);
             for l in lines {
                 let _ = writeln!(s, "* {l}");
             }
