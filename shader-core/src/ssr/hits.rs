@@ -20,8 +20,9 @@ use crate::buffer::{load, store};
 /// order) at `out[ob..ob + HIT_STRIDE]`, its colour sampled from the colour pyramid `color` where
 /// the resolves use it (`super::resolve::hit_colors_stored`); nothing when the slot holds no
 /// hitting ray. The record's output starts zeroed on both backends (a new GPU buffer, the CPU
-/// launchers' zeroed records and buffers), so the slots of misses and the colour words left
-/// unwritten read as zeros, and no pass reads a miss's record.
+/// launchers' zeroed records and buffers), so the slots of misses and the colour, UV and cone
+/// words left unwritten (`hit_colors_stored`, `hit_footprints_stored`) read as zeros, and no pass
+/// reads a miss's record.
 #[inline]
 pub fn hit_record_slot(p: &SsrParams, gbuf: &[f32], color: &[f32], rays: &[f32], slot: u32, out: &mut [f32], ob: usize) {
     // The ray's hit and its pdf: five of its record's eight words (not its direction).
