@@ -12,6 +12,7 @@ use std::process::Command;
 use std::time::Instant;
 
 mod lavapipe;
+mod mutants;
 
 /// The nightly that `spirv-builder 0.11.0` requires (its `rust-toolchain.toml`).
 const TOOLCHAIN: &str = "nightly-2026-08-15";
@@ -80,6 +81,16 @@ enum Cmd {
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
     },
+    /// Check that the formula tests catch wrong formulas: each mutant in xtask/src/mutants.rs
+    /// replaces one formula's source with a wrong one, runs the CPU-side test meant to catch it
+    /// and restores the file; fails if a test passes on its mutant (or fails on the unchanged
+    /// source), or if a mutant's source piece is no longer in its file. Prints a Markdown table.
+    /// About a minute per mutant on 2 cores (each rebuilds the crates above shader-core).
+    Mutants {
+        /// Only the mutants whose name contains this text.
+        #[arg(long, default_value = "")]
+        only: String,
+    },
     /// Pack the real-GPU check for a machine without a Rust toolchain into .gpu-bundle/ (ignored
     /// by git): the host binary and the CPU-vs-GPU test binaries, stripped and xz-compressed, the
     /// shared Cornell box the tests read, and `run.sh` (xtask/gpu-run.sh), which runs the tests
@@ -116,6 +127,7 @@ fn main() -> Result<()> {
         }
         Cmd::DocsReports { only } => docs_reports(&only),
         Cmd::GpuBundle { tests } => gpu_bundle(&tests),
+        Cmd::Mutants { only } => mutants::run(&workspace_root(), &only),
     }
 }
 

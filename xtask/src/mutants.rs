@@ -1,0 +1,211 @@
+//! `cargo xtask mutants`: each formula test must fail when the formula it checks is changed. A
+//! mutant replaces one exact piece of source (found exactly once) with a wrong formula, runs the
+//! CPU-side test meant to catch it, and restores the file (also on error or panic); a mutant the
+//! test does not catch, or one whose source piece is no longer there, fails the command.
+
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+/// One wrong formula and the test that must catch it.
+pub struct Mutant {
+    pub name: &'static str,
+    /// Source file, relative to the workspace root.
+    pub file: &'static str,
+    /// The exact source piece replaced (it must occur exactly once in `file`).
+    pub from: &'static str,
+    pub to: &'static str,
+    /// `cargo test -p crosscheck --test <test> [-- <filter>...]`: CPU-side tests only (the
+    /// mutated kernels no longer match the committed SPIR-V, so a GPU comparison would fail for
+    /// that reason alone).
+    pub test: &'static str,
+    pub filter: &'static [&'static str],
+}
+
+const STOCHASTIC: &str = "shader-core/src/ssr/stochastic.rs";
+const RESOLVE: &str = "shader-core/src/ssr/resolve.rs";
+
+pub const MUTANTS: &[Mutant] = &[
+    Mutant {
+        name: "stochastic ray weight without G2",
+        file: STOCHASTIC,
+        from: "ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf)",
+        to: "ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) + 0.0 * g2, 4.0 * nv), pdf)",
+        test: "ssr_formulas",
+        filter: &["stochastic_ray_weight"],
+    },
+    Mutant {
+        name: "stochastic ray weight not divided by the pdf",
+        file: STOCHASTIC,
+        from: "let w = ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf);",
+        to: "let w = ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv);",
+        test: "ssr_formulas",
+        filter: &["stochastic_ray_weight"],
+    },
+    Mutant {
+        name: "temporal weight 1 / (2 (n + 1))",
+        file: STOCHASTIC,
+        from: "let w = maxf(ieee::div(1.0, n1), p.temporal_alpha);",
+        to: "let w = maxf(ieee::div(0.5, n1), p.temporal_alpha);",
+        test: "ssr_formulas",
+        filter: &["temporal_blend"],
+    },
+    Mutant {
+        name: "FIS mip of twice the footprint",
+        file: STOCHASTIC,
+        from: "maxf(0.0, log2_approx(2.0 * dist_px * tan_half))",
+        to: "maxf(0.0, log2_approx(4.0 * dist_px * tan_half))",
+        test: "ssr_formulas",
+        filter: &["fis_cone_and_mip"],
+    },
+    Mutant {
+        name: "FIS cone without 1/pi",
+        file: STOCHASTIC,
+        from: "ieee::sqrt(ieee::div(core::f32::consts::FRAC_1_PI, pdf * rays_in_window))",
+        to: "ieee::sqrt(ieee::div(1.0, pdf * rays_in_window))",
+        test: "ssr_formulas",
+        filter: &["fis_cone_and_mip"],
+    },
+    Mutant {
+        name: "GetSSRSampleWeight without Lambda(l)",
+        file: RESOLVE,
+        from: "ieee::div(lambda_v_plus_one, lambda_v_plus_one + lambda_l)",
+        to: "ieee::div(lambda_v_plus_one, lambda_v_plus_one + 0.0 * lambda_l)",
+        test: "ssr_formulas",
+        filter: &["hdrp_sample_weight"],
+    },
+    Mutant {
+        name: "bilinear sample weighs x by the y fraction",
+        file: RESOLVE,
+        from: "let top = lerp3(texel(p, pyr, off, w, x0, y0), texel(p, pyr, off, w, x1, y0), fx);",
+        to: "let top = lerp3(texel(p, pyr, off, w, x0, y0), texel(p, pyr, off, w, x1, y0), fy);",
+        test: "ssr_formulas",
+        filter: &["colour_samples_are_bilinear"],
+    },
+    Mutant {
+        name: "trilinear sample with the mip fraction reversed",
+        file: RESOLVE,
+        from: "lerp3(c0, c1, f)",
+        to: "lerp3(c0, c1, 1.0 - f)",
+        test: "ssr_formulas",
+        filter: &["colour_samples_are_linear_between_mips"],
+    },
+    Mutant {
+        name: "edge-of-screen fade on x only",
+        file: RESOLVE,
+        from: "smoothstep01(tx) * smoothstep01(ty)",
+        to: "smoothstep01(tx) + 0.0 * smoothstep01(ty)",
+        test: "ssr_formulas",
+        filter: &["edge_of_screen_fade"],
+    },
+    Mutant {
+        name: "SSR_APPROX mip from 1 - roughness",
+        file: RESOLVE,
+        from: "let mip = lerp(0.0, p.color_max_mip as f32, rough);",
+        to: "let mip = lerp(0.0, p.color_max_mip as f32, 1.0 - rough);",
+        test: "ssr_formulas",
+        filter: &["ssr_approx"],
+    },
+    Mutant {
+        name: "SSR_APPROX without the roughness fade",
+        file: RESOLVE,
+        from: "    let opacity = edge_of_screen_fade(u, v, p.edge_fade_rcp_length)\n        * perceptual_roughness_fade(rough, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);",
+        to: "    let opacity = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);",
+        test: "ssr_formulas",
+        filter: &["ssr_approx"],
+    },
+    Mutant {
+        name: "hit reprojection adds the motion vector",
+        file: RESOLVE,
+        from: "let u = ieee::div(hx, p.width as f32) - load(gbuf, b + 6);",
+        to: "let u = ieee::div(hx, p.width as f32) + load(gbuf, b + 6);",
+        test: "ssr_formulas",
+        filter: &["ssr_approx"],
+    },
+    Mutant {
+        name: "specular FG with E and E' swapped",
+        file: "shader-core/src/ssr/specular.rs",
+        from: "Vec3::new(schlick_albedo(e, ep, f0.x, 1.0), schlick_albedo(e, ep, f0.y, 1.0), schlick_albedo(e, ep, f0.z, 1.0))",
+        to: "Vec3::new(schlick_albedo(ep, e, f0.x, 1.0), schlick_albedo(ep, e, f0.y, 1.0), schlick_albedo(ep, e, f0.z, 1.0))",
+        test: "ssr_specular",
+        filter: &["fg_term_matches_f64_quadrature"],
+    },
+    Mutant {
+        name: "height-correlated G2 as 1 / (1 + Lambda_o Lambda_i)",
+        file: "shader-core/src/masking.rs",
+        from: "ieee::div(1.0, 1.0 + (lambda_o + lambda_i))",
+        to: "ieee::div(1.0, 1.0 + lambda_o * lambda_i)",
+        test: "microfacet_properties",
+        filter: &["white_furnace"],
+    },
+];
+
+/// Puts a file's original text back when dropped.
+struct Restore {
+    path: PathBuf,
+    text: String,
+}
+
+impl Drop for Restore {
+    fn drop(&mut self) {
+        if let Err(e) = std::fs::write(&self.path, &self.text) {
+            eprintln!("[mutants] could not restore {}: {e}", self.path.display());
+        }
+    }
+}
+
+fn cargo_test(root: &Path, m: &Mutant) -> Result<bool> {
+    let mut cmd = Command::new(env!("CARGO"));
+    cmd.current_dir(root).args(["test", "--release", "-q", "-p", "crosscheck", "--test", m.test, "--"]).args(m.filter);
+    // The tests' own GPU checks are not among the filtered ones; keep CI=true from turning a
+    // skipped comparison into a failure that would look like a caught mutant.
+    cmd.env_remove("CI").stdout(std::process::Stdio::null()).stderr(std::process::Stdio::null());
+    Ok(cmd.status().with_context(|| format!("running cargo test --test {}", m.test))?.success())
+}
+
+/// Run the mutants whose name contains `only` (all when empty); fails unless each test passes on
+/// the unchanged source and fails on every mutant of it.
+pub fn run(root: &Path, only: &str) -> Result<()> {
+    let chosen: Vec<&Mutant> = MUTANTS.iter().filter(|m| m.name.contains(only)).collect();
+    if chosen.is_empty() {
+        bail!("no mutant's name contains {only:?}");
+    }
+    for m in &chosen {
+        let text = std::fs::read_to_string(root.join(m.file)).with_context(|| m.file.to_string())?;
+        let n = text.matches(m.from).count();
+        if n != 1 {
+            bail!("mutant {:?}: its source piece occurs {n} times in {} (it must occur once; update xtask/src/mutants.rs with the formula's new text)", m.name, m.file);
+        }
+    }
+    let mut tests: Vec<(&str, &[&str])> = chosen.iter().map(|m| (m.test, m.filter)).collect();
+    tests.dedup();
+    for (test, filter) in tests {
+        let m = chosen.iter().find(|m| m.test == test && m.filter == filter).expect("listed above");
+        eprintln!("[mutants] unchanged source: --test {test} {filter:?}");
+        if !cargo_test(root, m)? {
+            bail!("the test `--test {test} -- {}` fails on the unchanged source", filter.join(" "));
+        }
+    }
+    let mut survived = Vec::new();
+    println!("| mutant | file | test | caught | seconds |\n| --- | --- | --- | --- | ---: |");
+    for m in &chosen {
+        let path = root.join(m.file);
+        let text = std::fs::read_to_string(&path)?;
+        let start = Instant::now();
+        let caught = {
+            let _restore = Restore { path: path.clone(), text: text.clone() };
+            std::fs::write(&path, text.replacen(m.from, m.to, 1))?;
+            !cargo_test(root, m)?
+        };
+        println!("| {} | `{}` | `{}` {} | {} | {:.0} |", m.name, m.file, m.test, m.filter.join(" "), if caught { "yes" } else { "**no**" }, start.elapsed().as_secs_f64());
+        if !caught {
+            survived.push(m.name);
+        }
+    }
+    if !survived.is_empty() {
+        bail!("{} of {} mutants survived their tests: {}", survived.len(), chosen.len(), survived.join("; "));
+    }
+    eprintln!("[mutants] all {} caught", chosen.len());
+    Ok(())
+}
