@@ -37,6 +37,8 @@ mod render_crosscheck;
 mod ssr_1080p;
 #[path = "ssr_fringes.rs"]
 mod ssr_fringes;
+#[path = "ssr_formulas.rs"]
+mod ssr_formulas;
 #[path = "ssr_gltf.rs"]
 mod ssr_gltf;
 #[path = "ssr_hdrp.rs"]

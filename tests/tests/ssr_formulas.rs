@@ -356,7 +356,7 @@ fn ssr_approx_reads_the_reprojected_hit_at_the_roughness_mip() {
         let b = i * RAY_STRIDE;
         rays[b] = rng.range(0.0, w as f64) as f32;
         rays[b + 1] = rng.range(0.0, h as f64) as f32;
-        let hit = rng.next() % 4 != 0;
+        let hit = !rng.next().is_multiple_of(4);
         rays[b + RAY_INFO] = f32::from_bits(info::VALID | if hit { info::HIT } else { 0 });
     }
     let moving = (0..w * h).filter(|&i| gbuf[i * GBUF_STRIDE + 6] != 0.0 || gbuf[i * GBUF_STRIDE + 7] != 0.0).count();

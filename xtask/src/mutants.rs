@@ -139,6 +139,30 @@ pub const MUTANTS: &[Mutant] = &[
         test: "microfacet_properties",
         filter: &["white_furnace"],
     },
+    Mutant {
+        name: "Schlick weight (1 - c)^4",
+        file: "shader-core/src/fresnel.rs",
+        from: "    m2 * m2 * m\n}",
+        to: "    m2 * m2 + 0.0 * m\n}",
+        test: "bxdf_properties",
+        filter: &["schlick_endpoints_and_shape"],
+    },
+    Mutant {
+        name: "Heitz 2018 VNDF sample with the hemisphere blend reversed",
+        file: "shader-core/src/vndf.rs",
+        from: "let p2 = (1.0 - s) * w + s * p2;",
+        to: "let p2 = s * w + (1.0 - s) * p2;",
+        test: "vndf_chi2",
+        filter: &["chi2_sample_vndf_heitz"],
+    },
+    Mutant {
+        name: "Kulla-Conty f_ms with F_avg instead of F_avg^2",
+        file: "shader-core/src/energy.rs",
+        from: "ieee::div((1.0 - e_o) * (1.0 - e_i) * (f_avg * f_avg * e_avg), PI * loss * (1.0 - f_avg * loss))",
+        to: "ieee::div((1.0 - e_o) * (1.0 - e_i) * (f_avg * e_avg), PI * loss * (1.0 - f_avg * loss))",
+        test: "energy_properties",
+        filter: &["furnace_albedo_is_one_with_compensation"],
+    },
 ];
 
 /// Puts a file's original text back when dropped.
