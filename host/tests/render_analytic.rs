@@ -9,6 +9,9 @@
 //!   material, E = irradiance at normal incidence, or I / d^2) to 1e-5;
 //! * the three estimators (MIS, BSDF only, light only) agree on every 4x4 block of the built-in
 //!   scene within 6 standard errors, and the error falls as spp^-1/2;
+//! * an emissive quad filling a plane's hemisphere lights it as a uniform sky does (MIS and BSDF
+//!   sampling), and a small one gives the same mean with each estimator, which fails if either
+//!   half of the MIS estimate loses its weight;
 //! * the environment map's sampling density is what `pdf` says and integrates to 1.
 
 use host::energy::{self, Compensation, TableSpec};
@@ -162,6 +165,73 @@ fn white_furnace_compensated_dielectric_matches_the_furnace_kernel() {
         let want = shader_core::energy::furnace_albedo(lut(), &fm, theta.cos(), 1 << 16, shader_core::energy::SEQ_SOBOL, 5, 0) as f64;
         assert!((a - want).abs() < 4e-3, "r {r}: rendered {a}, furnace kernel {want}");
     }
+}
+
+/// Red radiance per pixel, direct light only, of the plane seen from `theta` ([`ortho_at`]) at
+/// 64 x 64 pixels and 256 samples each, lit either by a uniform sky of radiance 1 (`lamp` None) or
+/// by an emissive quad of radiance 1, `lamp` = (half size, height), facing it from above.
+fn overhead(m: &Material, theta: f32, strategy: u32, lamp: Option<(f32, f32)>) -> Vec<f64> {
+    let mut b = SceneBuilder::new("plane under a light");
+    let id = b.material(m.clone());
+    b.mesh(&plane(50.0), id, &Mat4::IDENTITY).unwrap();
+    if let Some((s, y)) = lamp {
+        let emissive = b.material(Material { emissive: [1.0; 3], ..Material::pbr("lamp", [0.0; 3], 0.0, 1.0) });
+        let quad = MeshData {
+            name: "lamp".into(),
+            positions: vec![[-s, y, -s], [s, y, -s], [s, y, s], [-s, y, s]],
+            normals: Some(vec![[0.0, -1.0, 0.0]; 4]),
+            indices: Some(vec![0, 1, 2, 0, 2, 3]),
+            ..MeshData::default()
+        };
+        b.mesh(&quad, emissive, &Mat4::IDENTITY).unwrap();
+    }
+    let scene = b.build().unwrap();
+    let sky = env::build(&if lamp.is_some() { EnvSpec::Black } else { EnvSpec::Uniform([1.0; 3]) }, 1.0, 0.0).unwrap();
+    let p = params(&ortho_at(theta), 64, 64, strategy, Compensation::Turquin, if lamp.is_some() { 0.0 } else { 1.0 }, 1, 7);
+    let img = render(&scene, &sky, &p, 256);
+    img.color.iter().step_by(3).map(|&x| f64::from(x)).collect()
+}
+
+/// The mean of `a - b` over pixels (two estimates of the same pixels) and its standard error.
+fn paired_difference(a: &[f64], b: &[f64]) -> (f64, f64) {
+    let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+    let n = d.len() as f64;
+    let m = d.iter().sum::<f64>() / n;
+    (m, (d.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt())
+}
+
+/// Direct light from emissive quads. One 20000 x 20000 wide at height 10 fills the plane's
+/// hemisphere but for a cos-weighted 1e-6, so it lights the plane as a uniform sky of the same
+/// radiance does (MIS and BSDF sampling; light sampling alone is left out there: uniform area
+/// sampling of so large a quad puts almost every sample far away at grazing angles). One 2 x 2
+/// wide at height 1, where light and BSDF sampling share the estimate, gives the same mean with
+/// MIS, with BSDF sampling alone and with light sampling alone (within 5 standard errors). Both
+/// fail if either half of the MIS estimate loses its weight (the light counted up to twice).
+#[test]
+fn area_lights_agree_with_the_sky_and_across_estimators() {
+    for (m, deg) in [(Material::pbr("metal", [1.0; 3], 1.0, 0.5), 30.0f32), (Material::pbr("plastic", [0.6; 3], 0.0, 0.3), 60.0)] {
+        let theta = deg.to_radians();
+        let sky = overhead(&m, theta, STRATEGY_BSDF, None);
+        let sky_mean = mean_f64(&sky);
+        for (name, strategy) in [("mis", STRATEGY_MIS), ("bsdf", STRATEGY_BSDF)] {
+            let lit = mean_f64(&overhead(&m, theta, strategy, Some((10_000.0, 10.0))));
+            eprintln!("{} at {deg} degrees: uniform sky {sky_mean:.4}, hemisphere-filling quad ({name}) {lit:.4}", m.name);
+            assert!((lit - sky_mean).abs() < 5e-3, "{} at {deg} degrees, {name}: area light {lit} vs uniform sky {sky_mean}", m.name);
+        }
+        let small = Some((1.0, 1.0));
+        let mis = overhead(&m, theta, STRATEGY_MIS, small);
+        for (name, strategy) in [("bsdf", STRATEGY_BSDF), ("light", STRATEGY_LIGHT)] {
+            let other = overhead(&m, theta, strategy, small);
+            let (d, se) = paired_difference(&mis, &other);
+            let z = d.abs() / se;
+            eprintln!("{} at {deg} degrees, 2 x 2 quad: mis {:.4}, {name} {:.4}, difference {d:.5} ({z:.1} standard errors)", m.name, mean_f64(&mis), mean_f64(&other));
+            assert!(z < 5.0, "{} at {deg} degrees, 2 x 2 quad: mis {} vs {name} {} ({z:.1} standard errors)", m.name, mean_f64(&mis), mean_f64(&other));
+        }
+    }
+}
+
+fn mean_f64(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len() as f64
 }
 
 /// Direct lighting from one delta light on a plane: every pixel is f(wo, wi) cos(theta_i) E.

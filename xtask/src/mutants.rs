@@ -16,9 +16,10 @@ pub struct Mutant {
     /// The exact source piece replaced (it must occur exactly once in `file`).
     pub from: &'static str,
     pub to: &'static str,
-    /// `cargo test -p crosscheck --test <test> [-- <filter>...]`: CPU-side tests only (the
+    /// `cargo test -p <package> --test <test> [-- <filter>...]`: CPU-side tests only (the
     /// mutated kernels no longer match the committed SPIR-V, so a GPU comparison would fail for
     /// that reason alone).
+    pub package: &'static str,
     pub test: &'static str,
     pub filter: &'static [&'static str],
 }
@@ -32,6 +33,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: STOCHASTIC,
         from: "ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf)",
         to: "ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) + 0.0 * g2, 4.0 * nv), pdf)",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["stochastic_ray_weight"],
     },
@@ -40,6 +42,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: STOCHASTIC,
         from: "let w = ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf);",
         to: "let w = ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv);",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["stochastic_ray_weight"],
     },
@@ -48,6 +51,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: STOCHASTIC,
         from: "let w = maxf(ieee::div(1.0, n1), p.temporal_alpha);",
         to: "let w = maxf(ieee::div(0.5, n1), p.temporal_alpha);",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["temporal_blend"],
     },
@@ -56,6 +60,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: STOCHASTIC,
         from: "maxf(0.0, log2_approx(2.0 * dist_px * tan_half))",
         to: "maxf(0.0, log2_approx(4.0 * dist_px * tan_half))",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["fis_cone_and_mip"],
     },
@@ -64,6 +69,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: STOCHASTIC,
         from: "ieee::sqrt(ieee::div(core::f32::consts::FRAC_1_PI, pdf * rays_in_window))",
         to: "ieee::sqrt(ieee::div(1.0, pdf * rays_in_window))",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["fis_cone_and_mip"],
     },
@@ -72,6 +78,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: RESOLVE,
         from: "ieee::div(lambda_v_plus_one, lambda_v_plus_one + lambda_l)",
         to: "ieee::div(lambda_v_plus_one, lambda_v_plus_one + 0.0 * lambda_l)",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["hdrp_sample_weight"],
     },
@@ -80,6 +87,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: RESOLVE,
         from: "let top = lerp3(texel(p, pyr, off, w, x0, y0), texel(p, pyr, off, w, x1, y0), fx);",
         to: "let top = lerp3(texel(p, pyr, off, w, x0, y0), texel(p, pyr, off, w, x1, y0), fy);",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["colour_samples_are_bilinear"],
     },
@@ -88,6 +96,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: RESOLVE,
         from: "lerp3(c0, c1, f)",
         to: "lerp3(c0, c1, 1.0 - f)",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["colour_samples_are_linear_between_mips"],
     },
@@ -96,6 +105,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: RESOLVE,
         from: "smoothstep01(tx) * smoothstep01(ty)",
         to: "smoothstep01(tx) + 0.0 * smoothstep01(ty)",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["edge_of_screen_fade"],
     },
@@ -104,6 +114,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: RESOLVE,
         from: "let mip = lerp(0.0, p.color_max_mip as f32, rough);",
         to: "let mip = lerp(0.0, p.color_max_mip as f32, 1.0 - rough);",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["ssr_approx"],
     },
@@ -112,6 +123,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: RESOLVE,
         from: "    let opacity = edge_of_screen_fade(u, v, p.edge_fade_rcp_length)\n        * perceptual_roughness_fade(rough, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);",
         to: "    let opacity = edge_of_screen_fade(u, v, p.edge_fade_rcp_length);",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["ssr_approx"],
     },
@@ -120,6 +132,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: RESOLVE,
         from: "let u = ieee::div(hx, p.width as f32) - load(gbuf, b + 6);",
         to: "let u = ieee::div(hx, p.width as f32) + load(gbuf, b + 6);",
+        package: "crosscheck",
         test: "ssr_formulas",
         filter: &["ssr_approx"],
     },
@@ -128,6 +141,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: "shader-core/src/ssr/specular.rs",
         from: "Vec3::new(schlick_albedo(e, ep, f0.x, 1.0), schlick_albedo(e, ep, f0.y, 1.0), schlick_albedo(e, ep, f0.z, 1.0))",
         to: "Vec3::new(schlick_albedo(ep, e, f0.x, 1.0), schlick_albedo(ep, e, f0.y, 1.0), schlick_albedo(ep, e, f0.z, 1.0))",
+        package: "crosscheck",
         test: "ssr_specular",
         filter: &["fg_term_matches_f64_quadrature"],
     },
@@ -136,6 +150,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: "shader-core/src/masking.rs",
         from: "ieee::div(1.0, 1.0 + (lambda_o + lambda_i))",
         to: "ieee::div(1.0, 1.0 + lambda_o * lambda_i)",
+        package: "crosscheck",
         test: "microfacet_properties",
         filter: &["white_furnace"],
     },
@@ -144,6 +159,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: "shader-core/src/fresnel.rs",
         from: "    m2 * m2 * m\n}",
         to: "    m2 * m2 + 0.0 * m\n}",
+        package: "crosscheck",
         test: "bxdf_properties",
         filter: &["schlick_endpoints_and_shape"],
     },
@@ -152,6 +168,7 @@ pub const MUTANTS: &[Mutant] = &[
         file: "shader-core/src/vndf.rs",
         from: "let p2 = (1.0 - s) * w + s * p2;",
         to: "let p2 = s * w + (1.0 - s) * p2;",
+        package: "crosscheck",
         test: "vndf_chi2",
         filter: &["chi2_sample_vndf_heitz"],
     },
@@ -160,8 +177,45 @@ pub const MUTANTS: &[Mutant] = &[
         file: "shader-core/src/energy.rs",
         from: "ieee::div((1.0 - e_o) * (1.0 - e_i) * (f_avg * f_avg * e_avg), PI * loss * (1.0 - f_avg * loss))",
         to: "ieee::div((1.0 - e_o) * (1.0 - e_i) * (f_avg * e_avg), PI * loss * (1.0 - f_avg * loss))",
+        package: "crosscheck",
         test: "energy_properties",
         filter: &["furnace_albedo_is_one_with_compensation"],
+    },
+    Mutant {
+        name: "light-sampling pdf without the cosine at the light",
+        file: "shader-core/src/pt/light.rs",
+        from: "ieee::div(d2, cos_l * area)",
+        to: "ieee::div(d2, area)",
+        package: "host",
+        test: "render_analytic",
+        filter: &["mis_bsdf_and_light_sampling_agree"],
+    },
+    Mutant {
+        name: "next-event estimation without its MIS weight",
+        file: "shader-core/src/pt/integrator.rs",
+        from: "{ 1.0 } else { power_heuristic(p_light, mat.pdf(wo, wi)) };",
+        to: "{ 1.0 } else { 1.0 + 0.0 * power_heuristic(p_light, mat.pdf(wo, wi)) };",
+        package: "host",
+        test: "render_analytic",
+        filter: &["area_lights_agree"],
+    },
+    Mutant {
+        name: "emitter hit by a BSDF sample without its MIS weight",
+        file: "shader-core/src/pt/integrator.rs",
+        from: "                power_heuristic(prev_pdf, pl)\n",
+        to: "                1.0 + 0.0 * power_heuristic(prev_pdf, pl)\n",
+        package: "host",
+        test: "render_analytic",
+        filter: &["area_lights_agree"],
+    },
+    Mutant {
+        name: "next-event estimation without the cosine at the surface",
+        file: "shader-core/src/pt/integrator.rs",
+        from: "ieee::div(wi.z.abs() * w, p_light)",
+        to: "ieee::div(w, p_light)",
+        package: "host",
+        test: "render_analytic",
+        filter: &["directional_light_on_a_plane_is_f_cos_e"],
     },
 ];
 
@@ -181,11 +235,11 @@ impl Drop for Restore {
 
 fn cargo_test(root: &Path, m: &Mutant) -> Result<bool> {
     let mut cmd = Command::new(env!("CARGO"));
-    cmd.current_dir(root).args(["test", "--release", "-q", "-p", "crosscheck", "--test", m.test, "--"]).args(m.filter);
+    cmd.current_dir(root).args(["test", "--release", "-q", "-p", m.package, "--test", m.test, "--"]).args(m.filter);
     // The tests' own GPU checks are not among the filtered ones; keep CI=true from turning a
     // skipped comparison into a failure that would look like a caught mutant.
     cmd.env_remove("CI").stdout(std::process::Stdio::null()).stderr(std::process::Stdio::null());
-    Ok(cmd.status().with_context(|| format!("running cargo test --test {}", m.test))?.success())
+    Ok(cmd.status().with_context(|| format!("running cargo test -p {} --test {}", m.package, m.test))?.success())
 }
 
 /// Run the mutants whose name contains `only` (all when empty); fails unless each test passes on
@@ -202,13 +256,13 @@ pub fn run(root: &Path, only: &str) -> Result<()> {
             bail!("mutant {:?}: its source piece occurs {n} times in {} (it must occur once; update xtask/src/mutants.rs with the formula's new text)", m.name, m.file);
         }
     }
-    let mut tests: Vec<(&str, &[&str])> = chosen.iter().map(|m| (m.test, m.filter)).collect();
+    let mut tests: Vec<(&str, &str, &[&str])> = chosen.iter().map(|m| (m.package, m.test, m.filter)).collect();
     tests.dedup();
-    for (test, filter) in tests {
-        let m = chosen.iter().find(|m| m.test == test && m.filter == filter).expect("listed above");
-        eprintln!("[mutants] unchanged source: --test {test} {filter:?}");
+    for (package, test, filter) in tests {
+        let m = chosen.iter().find(|m| (m.package, m.test, m.filter) == (package, test, filter)).expect("listed above");
+        eprintln!("[mutants] unchanged source: -p {package} --test {test} {filter:?}");
         if !cargo_test(root, m)? {
-            bail!("the test `--test {test} -- {}` fails on the unchanged source", filter.join(" "));
+            bail!("the test `-p {package} --test {test} -- {}` fails on the unchanged source", filter.join(" "));
         }
     }
     let mut survived = Vec::new();
@@ -222,7 +276,7 @@ pub fn run(root: &Path, only: &str) -> Result<()> {
             std::fs::write(&path, text.replacen(m.from, m.to, 1))?;
             !cargo_test(root, m)?
         };
-        println!("| {} | `{}` | `{}` {} | {} | {:.0} |", m.name, m.file, m.test, m.filter.join(" "), if caught { "yes" } else { "**no**" }, start.elapsed().as_secs_f64());
+        println!("| {} | `{}` | `{}` `{}` {} | {} | {:.0} |", m.name, m.file, m.package, m.test, m.filter.join(" "), if caught { "yes" } else { "**no**" }, start.elapsed().as_secs_f64());
         if !caught {
             survived.push(m.name);
         }
