@@ -2,7 +2,8 @@
 //! bits, tests/tests/render_crosscheck.rs):
 //! * white furnace: the compensated metal (base 1) reflects 1 within 1e-3 at every roughness and
 //!   angle with Turquin or Kulla-Conty, and the energy table's E(mu, r) without (stratified
-//!   estimate of the material's integral); rendered on a plane under a uniform environment it
+//!   estimate of the material's integral), and a coloured metal (F0 = 0.5) follows each
+//!   compensation's formula; rendered on a plane under a uniform environment it
 //!   gives the same within the Monte-Carlo error; a compensated dielectric plane renders the
 //!   furnace kernel's albedo;
 //! * a plane under a directional and a point light: every pixel equals f cos E (f from the
@@ -136,6 +137,35 @@ fn white_furnace_compensated_metal_conserves_energy() {
         }
     }
     eprintln!("compensated metal furnace: largest |albedo - 1| = {worst:.2e}");
+}
+
+/// A coloured metal (F0 = 0.5) is where the compensations differ from a scale to 1: with E, E'
+/// the true single-scattering integrals (f64 quadrature), E_F = F0 E + (1 - F0) E' (Schlick, F90
+/// = 1), and E_t, E_avg the table's, the material's albedo is E_F uncompensated, E_F (1 + F0 (1 /
+/// E_t - 1)) with Turquin's scale, and E_F + (1 - E_t) F_avg^2 E_avg / (1 - F_avg (1 - E_avg)),
+/// F_avg = F0 + (1 - F0) / 21, with Kulla-Conty's lobe.
+#[test]
+fn white_furnace_coloured_metal_follows_each_compensation_formula() {
+    let q = reference::energy::Quadrature::default();
+    let f0 = 0.5f64;
+    for &r in &[0.3f32, 0.6, 1.0] {
+        for &deg in &[0.0f32, 60.0] {
+            let mp = MaterialPoint { base: Vec3::new(0.5, 0.5, 0.5), metallic: 1.0, roughness: r, emission: Vec3::ZERO, transmission: 0.0, ior: 1.5, double_sided: 0 };
+            let theta = deg.to_radians();
+            let mu = theta.cos();
+            let (e, e_p) = reference::energy::albedo(mu as f64, (r * r) as f64, &q);
+            let e_f = f0 * e + (1.0 - f0) * e_p;
+            let e_t = shader_core::energy::lut_e(lut(), mu, r) as f64;
+            let e_avg = shader_core::energy::lut_e_avg(lut(), r) as f64;
+            let f_avg = f0 + (1.0 - f0) / 21.0;
+            let kc = e_f + (1.0 - e_t) * f_avg * f_avg * e_avg / (1.0 - f_avg * (1.0 - e_avg));
+            for (comp, want) in [(Compensation::None, e_f), (Compensation::Turquin, e_f * (1.0 + f0 * (1.0 / e_t - 1.0))), (Compensation::KullaConty, kc)] {
+                let a = material_albedo(&mp, theta, comp);
+                eprintln!("F0 0.5 r {r} theta {deg} {}: albedo {a:.5}, formula {want:.5}", comp.label());
+                assert!((a - want).abs() < 3e-4, "{} F0 0.5 r {r} theta {deg}: albedo {a}, formula {want}", comp.label());
+            }
+        }
+    }
 }
 
 #[test]

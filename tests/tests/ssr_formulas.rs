@@ -2,8 +2,8 @@
 //! stochastic resolve's ray weight f cos / pdf = D(h) G2(v, l) / (4 n.v) / pdf (Stachowiak 2015's
 //! ratio estimator; Heitz 2018 eq. 19), HDRP's `GetSSRSampleWeight` = G2 / G1 = (1 + Lambda(v)) /
 //! (1 + Lambda(v) + Lambda(l)), the colour pyramid's bilinear and trilinear samples, the filtered-
-//! importance-sampling cone and mip, HDRP's edge-of-screen fade and `SSR_APPROX` resolve, and the
-//! temporal blend (history clamped to the current 3x3 box, weight
+//! importance-sampling cone and mip, HDRP's edge-of-screen fade and `SSR_APPROX` resolve, the
+//! hit's virtual image for temporal reprojection, and the temporal blend (history clamped to the current 3x3 box, weight
 //! max(1 / (n + 1), alpha)). The CPU-vs-GPU comparisons cannot catch a wrong formula (both backends
 //! run the same one) and the error-against-reference tests only bound whole pipelines; each test
 //! here fails when its formula is changed (docs/ssr.md, "Formula tests").
@@ -14,8 +14,9 @@ use host::ssr::sssr::{sssr_params, SssrSettings};
 use host::ssr::{scene, SsrSettings};
 use shader_core::ssr::params::{mip_size, SsrParams, FLAG_REUSE};
 use shader_core::ssr::resolve::{edge_of_screen_fade, hdrp_reproject_approx, lambda_cos, log2_approx, sample_color, sample_color_level, ssr_sample_weight, COLOR_STRIDE, OUT_STRIDE};
-use shader_core::ssr::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_weight, temporal_pixel, HISTORY_STRIDE};
-use shader_core::ssr::trace::{info, p_mip_offset, Surface, GBUF_STRIDE, RAY_INFO, RAY_STRIDE};
+use shader_core::ssr::mat4::Mat4;
+use shader_core::ssr::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_weight, temporal_pixel, virtual_image_uv, HISTORY_STRIDE};
+use shader_core::ssr::trace::{info, load_surface, p_mip_offset, Surface, GBUF_STRIDE, RAY_INFO, RAY_STRIDE};
 use shader_core::vector::Vec3;
 
 /// SplitMix64: reproducible inputs without a dependency.
@@ -395,4 +396,87 @@ fn ssr_approx_reads_the_reprojected_hit_at_the_roughness_mip() {
     }
     eprintln!("SSR_APPROX: {hits} hits, {faded} partly faded");
     assert!(hits > w * h / 2 && faded > hits / 20, "{hits} hits, {faded} partly faded");
+}
+
+/// `m` as an f64 row-major array.
+fn mat64(m: &Mat4) -> [[f64; 4]; 4] {
+    [m.r0, m.r1, m.r2, m.r3].map(|r| [r.x, r.y, r.z, r.w].map(f64::from))
+}
+
+fn mul64(m: &[[f64; 4]; 4], v: [f64; 4]) -> [f64; 4] {
+    m.map(|r| r[0] * v[0] + r[1] * v[1] + r[2] * v[2] + r[3] * v[3])
+}
+
+/// The inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting.
+fn inverse64(m: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
+    let mut a = *m;
+    let mut inv = [[0.0; 4]; 4];
+    for (i, row) in inv.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    for c in 0..4 {
+        let p = (c..4).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();
+        a.swap(c, p);
+        inv.swap(c, p);
+        let d = a[c][c];
+        assert!(d.abs() > 1e-12, "singular matrix");
+        for k in 0..4 {
+            a[c][k] /= d;
+            inv[c][k] /= d;
+        }
+        for r in 0..4 {
+            if r != c {
+                let f = a[r][c];
+                for k in 0..4 {
+                    a[r][k] -= f * a[c][k];
+                    inv[r][k] -= f * inv[c][k];
+                }
+            }
+        }
+    }
+    inv
+}
+
+/// Hit-based temporal reprojection (Stachowiak 2015, "reflection motion vectors"): the reflection
+/// seen at a surface lies `dist` beyond it along the eye ray (a planar mirror's virtual image), and
+/// its previous-frame UV is that point through the previous camera. Checked against the point
+/// built in f64 (view -> world by `inv_view`, world -> previous view by the inverse of
+/// `prev_inv_view`, `prev_proj`, perspective divide) on a moving camera's frame; on a static
+/// camera every virtual image lands on its own pixel (it lies on the pixel's eye ray).
+#[test]
+fn virtual_image_lies_beyond_the_surface_along_the_eye_ray() {
+    let (w, h) = (64usize, 48usize);
+    let sc = scene("animated").unwrap();
+    let mut checked = 0;
+    for frame in [0, 20] {
+        let g = sc.render_gbuffer(w, h, frame);
+        let p = sssr_params(&g, &SsrSettings { frame, ..SsrSettings::default() }, &SssrSettings::default()).unwrap();
+        let gbuf = g.packed();
+        let moving = p.prev_inv_view != p.inv_view;
+        assert_eq!(moving, frame == 20, "frame {frame}: the camera should move only after frame 0");
+        let (inv_view, prev_view, prev_proj) = (mat64(&p.inv_view), inverse64(&mat64(&p.prev_inv_view)), mat64(&p.prev_proj));
+        let mut rng = Rng(9 + frame as u64);
+        for _ in 0..2000 {
+            let (x, y) = ((rng.next() % w as u64) as u32, (rng.next() % h as u64) as u32);
+            let s = load_surface(&p, &gbuf, x, y);
+            if !s.valid {
+                continue;
+            }
+            let dist = rng.range(0.05, 8.0) as f32;
+            let (u, v) = virtual_image_uv(&p, &s, dist);
+            let pos = d64(s.pos);
+            let k = 1.0 + f64::from(dist) / r64::dot(pos, pos).sqrt();
+            let world = mul64(&inv_view, [pos[0] * k, pos[1] * k, pos[2] * k, 1.0]);
+            let c = mul64(&prev_proj, mul64(&prev_view, world));
+            assert!(c[3] > 0.0, "virtual image behind the previous camera");
+            let (wu, wv) = (c[0] / c[3] * 0.5 + 0.5, 0.5 - c[1] / c[3] * 0.5);
+            assert!((f64::from(u) - wu).abs() < 1e-4 && (f64::from(v) - wv).abs() < 1e-4, "frame {frame} pixel ({x}, {y}), dist {dist}: uv ({u}, {v}) vs f64 ({wu}, {wv})");
+            if !moving {
+                let (pu, pv) = ((f64::from(x) + 0.5) / w as f64, (f64::from(y) + 0.5) / h as f64);
+                assert!((wu - pu).abs() < 1e-4 && (wv - pv).abs() < 1e-4, "static camera, pixel ({x}, {y}): virtual image at ({wu}, {wv})");
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000, "{checked} surfaces checked");
 }
