@@ -246,32 +246,82 @@ pub const MUTANTS: &[Mutant] = &[
     },
 ];
 
-/// Puts a file's original text back when dropped.
+/// Where the original of the file being mutated is kept while its mutant runs: a run that is
+/// killed (Ctrl-C) cannot restore it, so the next run does, first thing.
+fn backup_dir(root: &Path) -> PathBuf {
+    root.join("target").join("mutants-backup")
+}
+
+/// Puts a file's original text back when dropped, and removes its backup.
 struct Restore {
     path: PathBuf,
     text: String,
+    backup: PathBuf,
+}
+
+impl Restore {
+    /// Back up `file` (relative to `root`) and return its guard.
+    fn new(root: &Path, file: &str) -> Result<Restore> {
+        let path = root.join(file);
+        let text = std::fs::read_to_string(&path).with_context(|| file.to_string())?;
+        let dir = backup_dir(root);
+        std::fs::create_dir_all(&dir)?;
+        let backup = dir.join(file.replace('/', "__"));
+        std::fs::write(&backup, &text).with_context(|| format!("backing up {file}"))?;
+        Ok(Restore { path, text, backup })
+    }
 }
 
 impl Drop for Restore {
     fn drop(&mut self) {
-        if let Err(e) = std::fs::write(&self.path, &self.text) {
-            eprintln!("[mutants] could not restore {}: {e}", self.path.display());
+        match std::fs::write(&self.path, &self.text) {
+            Ok(()) => {
+                let _ = std::fs::remove_file(&self.backup);
+            }
+            Err(e) => eprintln!("[mutants] could not restore {} (its original is in {}): {e}", self.path.display(), self.backup.display()),
         }
     }
 }
 
+/// Restore the files an interrupted run left mutated.
+fn restore_interrupted(root: &Path) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(backup_dir(root)) else { return Ok(()) };
+    for e in entries {
+        let e = e?;
+        let file = e.file_name().to_string_lossy().replace("__", "/");
+        std::fs::write(root.join(&file), std::fs::read(e.path())?).with_context(|| format!("restoring {file}"))?;
+        std::fs::remove_file(e.path())?;
+        eprintln!("[mutants] restored {file}, left mutated by an interrupted run");
+    }
+    Ok(())
+}
+
+/// Build the mutant's test binary (an error if it does not compile: a mutant must be a wrong
+/// formula, not a broken build) and run its filtered tests; true if they pass.
 fn cargo_test(root: &Path, m: &Mutant) -> Result<bool> {
-    let mut cmd = Command::new(env!("CARGO"));
-    cmd.current_dir(root).args(["test", "--release", "-q", "-p", m.package, "--test", m.test, "--"]).args(m.filter);
-    // The tests' own GPU checks are not among the filtered ones; keep CI=true from turning a
-    // skipped comparison into a failure that would look like a caught mutant.
-    cmd.env_remove("CI").stdout(std::process::Stdio::null()).stderr(std::process::Stdio::null());
-    Ok(cmd.status().with_context(|| format!("running cargo test -p {} --test {}", m.package, m.test))?.success())
+    let cargo = |run: bool| {
+        let mut cmd = Command::new(env!("CARGO"));
+        cmd.current_dir(root).args(["test", "--release", "-q", "-p", m.package, "--test", m.test]);
+        if run {
+            cmd.arg("--").args(m.filter);
+        } else {
+            cmd.arg("--no-run");
+        }
+        // The tests' own GPU checks are not among the filtered ones; keep CI=true from turning a
+        // skipped comparison into a failure that would look like a caught mutant.
+        cmd.env_remove("CI").stdout(std::process::Stdio::null()).stderr(std::process::Stdio::null());
+        cmd.status().with_context(|| format!("running cargo test -p {} --test {}", m.package, m.test))
+    };
+    if !cargo(false)?.success() {
+        bail!("mutant {:?}: `cargo test -p {} --test {} --no-run` fails (a mutant must compile)", m.name, m.package, m.test);
+    }
+    Ok(cargo(true)?.success())
 }
 
 /// Run the mutants whose name contains `only` (all when empty); fails unless each test passes on
 /// the unchanged source and fails on every mutant of it.
 pub fn run(root: &Path, only: &str) -> Result<()> {
+    restore_interrupted(root)?;
     let chosen: Vec<&Mutant> = MUTANTS.iter().filter(|m| m.name.contains(only)).collect();
     if chosen.is_empty() {
         bail!("no mutant's name contains {only:?}");
@@ -295,12 +345,10 @@ pub fn run(root: &Path, only: &str) -> Result<()> {
     let mut survived = Vec::new();
     println!("| mutant | file | test | caught | seconds |\n| --- | --- | --- | --- | ---: |");
     for m in &chosen {
-        let path = root.join(m.file);
-        let text = std::fs::read_to_string(&path)?;
         let start = Instant::now();
         let caught = {
-            let _restore = Restore { path: path.clone(), text: text.clone() };
-            std::fs::write(&path, text.replacen(m.from, m.to, 1))?;
+            let restore = Restore::new(root, m.file)?;
+            std::fs::write(&restore.path, restore.text.replacen(m.from, m.to, 1))?;
             !cargo_test(root, m)?
         };
         println!("| {} | `{}` | `{}` `{}` {} | {} | {:.0} |", m.name, m.file, m.package, m.test, m.filter.join(" "), if caught { "yes" } else { "**no**" }, start.elapsed().as_secs_f64());
