@@ -3,10 +3,11 @@
 //! ratio estimator; Heitz 2018 eq. 19), HDRP's `GetSSRSampleWeight` = G2 / G1 = (1 + Lambda(v)) /
 //! (1 + Lambda(v) + Lambda(l)), the colour pyramid's bilinear and trilinear samples, the filtered-
 //! importance-sampling cone and mip, HDRP's edge-of-screen fade and `SSR_APPROX` resolve, the
-//! hit's virtual image for temporal reprojection, and the temporal blend (history clamped to the current 3x3 box, weight
-//! max(1 / (n + 1), alpha)). The CPU-vs-GPU comparisons cannot catch a wrong formula (both backends
-//! run the same one) and the error-against-reference tests only bound whole pipelines; each test
-//! here fails when its formula is changed (docs/ssr.md, "Formula tests").
+//! hit's virtual image for temporal reprojection, and the temporal blend (history clamped to the
+//! current 3x3 box, weight max(1 / (n + 1), alpha)). The CPU-vs-GPU comparisons cannot catch a
+//! wrong formula (both backends run the same one) and the error-against-reference tests only
+//! bound whole pipelines; each test here fails when its formula is changed (`cargo xtask mutants`,
+//! docs/DEVELOPING.md "Formula tests and mutants").
 
 use host::microfacet_ref as r64;
 use host::ssr::pipeline::pyramid_texels;
