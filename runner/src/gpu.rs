@@ -54,7 +54,8 @@ pub struct GpuContext {
     subgroup_module: Option<KernelModule>,
     /// Modules added at run time (the benches' WGSL speed references) and their entry points.
     extra_modules: Mutex<Vec<(wgpu::ShaderModule, Vec<String>)>>,
-    pipelines: Mutex<HashMap<(String, usize, usize), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>>,
+    /// Pipelines by (entry point, specialization values it uses, read-only and read-write bindings).
+    pipelines: Mutex<HashMap<(String, Vec<u32>, usize, usize), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>>,
     /// Each SPIR-V entry point's uniform-buffer bindings (its parameter record, e.g. the SSR
     /// passes' `SsrParams`); every other binding is a storage buffer.
     uniforms: Mutex<HashMap<String, Vec<u32>>>,
@@ -152,13 +153,13 @@ impl GpuContext {
         // build) and its manifest was checked against the sources; bindings are declared
         // explicitly in `pipeline()` to match the entry points' signatures.
         let mut uniforms = uniform_bindings(&words)?;
-        let main = unsafe { KernelModule::new(&device, "shader-kernels", words, shader.manifest.entry_points.clone(), passthrough)? };
+        let main = unsafe { KernelModule::new("shader-kernels", words, shader.manifest.entry_points.clone(), passthrough)? };
         let subgroup_module = if subgroups {
             let sg = crate::shaders::load_subgroup().map_err(GpuError::Shader)?;
             let sg_words = denorm_policy.apply(&sg.words).map_err(GpuError::Shader)?;
             // SAFETY: as for the main module (rust-gpu output, spirv-val'd, manifest checked).
             uniforms.extend(uniform_bindings(&sg_words)?);
-            Some(unsafe { KernelModule::new(&device, "shader-kernels-subgroup", sg_words, sg.manifest.entry_points.clone(), true)? })
+            Some(unsafe { KernelModule::new("shader-kernels-subgroup", sg_words, sg.manifest.entry_points.clone(), true)? })
         } else {
             None
         };
@@ -264,7 +265,7 @@ impl GpuContext {
         let words = self.denorm_policy.apply(&shader.words).map_err(GpuError::Shader)?;
         // SAFETY: as in `new` (rust-gpu output, spirv-val'd, manifest checked).
         self.uniforms.lock().unwrap().extend(uniform_bindings(&words)?);
-        self.main = unsafe { KernelModule::new(&self.device, "shader-kernels", words, shader.manifest.entry_points.clone(), self.passthrough)? };
+        self.main = unsafe { KernelModule::new("shader-kernels", words, shader.manifest.entry_points.clone(), self.passthrough)? };
         self.div_sqrt = shader.div_sqrt;
         self.div_sqrt_why = why;
         self.pipelines.lock().unwrap().clear();
@@ -316,17 +317,19 @@ impl GpuContext {
             || self.main.has(entry)
     }
 
-    /// The module holding `entry`, or an error naming the entry points there are.
-    fn module_for(&self, entry: &str) -> Result<wgpu::ShaderModule, GpuError> {
+    /// The module holding `entry`, specialized with `spec` where it is one of the project's
+    /// modules ([`crate::kernel_module`]; a module added at run time is used as it is), and
+    /// whether `spec` changed it; or an error naming the entry points there are.
+    fn module_for(&self, entry: &str, spec: &[u32]) -> Result<(wgpu::ShaderModule, bool), GpuError> {
         if let Some((m, _)) = self.extra_modules.lock().unwrap().iter().find(|(_, names)| names.iter().any(|n| n == entry)) {
-            return Ok(m.clone());
+            return Ok((m.clone(), false));
         }
         match &self.subgroup_module {
-            Some(m) if m.has(entry) => return m.module(&self.device, entry),
+            Some(m) if m.has(entry) => return m.module(&self.device, entry, spec),
             _ => {}
         }
         if self.main.has(entry) {
-            self.main.module(&self.device, entry)
+            self.main.module(&self.device, entry, spec)
         } else {
             Err(GpuError::Shader(format!(
                 "the SPIR-V module has no entry point {entry:?} (it has {}); rebuild it with `cargo xtask build-shaders`",
@@ -335,17 +338,19 @@ impl GpuContext {
         }
     }
 
-    /// Create (once) and return the pipeline of `entry` with `n_read` read-only then `n_write`
-    /// read-write bindings: storage buffers, except those the entry point declares as uniform
-    /// buffers (which must be among the read-only ones). The first creation's driver compile time
-    /// is recorded ([`GpuContext::compile_seconds`]).
-    fn pipeline(&self, entry: &str, n_read: usize, n_write: usize) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
-        let key = (entry.to_string(), n_read, n_write);
+    /// Create (once) and return the pipeline of `entry` specialized with `spec` (its
+    /// specialization constants 0..; see [`ChainPass::spec`]) with `n_read` read-only then
+    /// `n_write` read-write bindings: storage buffers, except those the entry point declares as
+    /// uniform buffers (which must be among the read-only ones). The first creation's driver
+    /// compile time is recorded ([`GpuContext::compile_seconds`]).
+    fn pipeline(&self, entry: &str, spec: &[u32], n_read: usize, n_write: usize) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
+        let t0 = Instant::now();
+        let (module, specialized) = self.module_for(entry, spec)?;
+        // An entry point without specialization constants has one pipeline whatever `spec` is.
+        let key = (entry.to_string(), if specialized { spec.to_vec() } else { Vec::new() }, n_read, n_write);
         if let Some(p) = self.pipelines.lock().unwrap().get(&key) {
             return Ok(p.clone());
         }
-        let t0 = Instant::now();
-        let module = self.module_for(entry)?;
         let uniform = self.uniforms.lock().unwrap().get(entry).cloned().unwrap_or_default();
         if let Some(b) = uniform.iter().find(|&&b| b as usize >= n_read) {
             return Err(GpuError::Shader(format!(
@@ -394,7 +399,7 @@ impl GpuContext {
     /// creation took: the driver's compile of that entry point, on first use.
     pub fn prepare(&self, entry: &str, n_read: usize, n_write: usize) -> Result<f64, GpuError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        self.pipeline(entry, n_read, n_write)?;
+        self.pipeline(entry, &[], n_read, n_write)?;
         if let Some(err) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(format!("{entry}: {err}")));
         }
@@ -418,10 +423,23 @@ impl GpuContext {
         outputs: &[OutputSpec<'_>],
         groups: (u32, u32, u32),
     ) -> Result<(Vec<Vec<u8>>, Timing), GpuError> {
+        self.dispatch_specialized(entry, &[], inputs, outputs, groups)
+    }
+
+    /// [`GpuContext::dispatch`] of `entry`'s pipeline specialized with `spec` ([`ChainPass::spec`]).
+    pub fn dispatch_specialized(
+        &self,
+        entry: &str,
+        spec: &[u32],
+        inputs: &[&[u8]],
+        outputs: &[OutputSpec<'_>],
+        groups: (u32, u32, u32),
+    ) -> Result<(Vec<Vec<u8>>, Timing), GpuError> {
         let mut buffers: Vec<ChainBuffer<'_>> = inputs.iter().map(|d| ChainBuffer::Input(d)).collect();
         buffers.extend(outputs.iter().map(|o| ChainBuffer::Output { size: o.size, init: o.init, read_back: true }));
         let pass = ChainPass {
             entry,
+            spec,
             reads: (0..inputs.len()).collect(),
             writes: (inputs.len()..inputs.len() + outputs.len()).collect(),
             dispatch: ChainDispatch::Direct(groups.0, groups.1, groups.2),
@@ -442,7 +460,7 @@ impl GpuContext {
         // Pipelines first (an unknown entry point is an error before any GPU work is recorded).
         let pipelines = passes
             .iter()
-            .map(|p| self.pipeline(p.entry, p.reads.len(), p.writes.len()))
+            .map(|p| self.pipeline(p.entry, p.spec, p.reads.len(), p.writes.len()))
             .collect::<Result<Vec<_>, GpuError>>()?;
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let t0 = Instant::now();
@@ -650,11 +668,16 @@ pub enum ChainDispatch {
     Indirect { buffer: usize, offset_bytes: u64 },
 }
 
-/// One pass of a chain: entry point, read-only buffers, read-write buffers (indices into the
-/// chain's buffers, bound in that order), dispatch.
+/// One pass of a chain: entry point and its specialization, read-only buffers, read-write
+/// buffers (indices into the chain's buffers, bound in that order), dispatch.
 #[derive(Clone, Debug)]
 pub struct ChainPass<'a> {
     pub entry: &'a str,
+    /// Values of the entry point's specialization constants 0.. (`&[]`: none set, each keeps the
+    /// default its module declares); the pipeline is compiled with them as constants
+    /// ([`shader_manifest::spec_constant`]). Ignored by an entry point that declares none and
+    /// by modules added at run time.
+    pub spec: &'a [u32],
     pub reads: Vec<usize>,
     pub writes: Vec<usize>,
     pub dispatch: ChainDispatch,

@@ -12,10 +12,10 @@ use std::sync::Mutex;
 // Two values per backend: the size difference does not matter.
 #[allow(clippy::large_enum_variant)]
 enum Source {
-    /// One driver module holding every entry point.
-    Whole(wgpu::ShaderModule),
-    /// The module indexed once; each entry point's own module created on first use.
-    Split { index: EntryPoints, created: Mutex<HashMap<String, wgpu::ShaderModule>> },
+    /// The whole module, handed to the driver as one module holding every entry point.
+    Whole(Vec<u32>),
+    /// The module indexed once; each entry point's own module cut on first use.
+    Split(EntryPoints),
 }
 
 /// The main or subgroup module of the GPU backend and its entry points.
@@ -24,6 +24,9 @@ pub(crate) struct KernelModule {
     entry_points: Vec<String>,
     passthrough: bool,
     source: Source,
+    /// Driver modules created, by (entry point, specialization values) (the whole module's under
+    /// every entry point it served), and whether the specialization changed the module.
+    created: Mutex<HashMap<(String, Vec<u32>), (wgpu::ShaderModule, bool)>>,
 }
 
 /// Whether `HOST_WHOLE_MODULE` asks for the whole module (set and not `0`).
@@ -33,22 +36,22 @@ pub(crate) fn whole_module_requested() -> bool {
 
 impl KernelModule {
     /// Index `words` (the module with entry points `entry_points`), or with
-    /// [`whole_module_requested`] create its one driver module now.
+    /// [`whole_module_requested`] keep them whole; driver modules are created on first use.
     ///
     /// # Safety
     /// As [`spirv_module`]: with `passthrough` the words reach the driver unvalidated.
-    pub(crate) unsafe fn new(device: &wgpu::Device, label: &str, words: Vec<u32>, entry_points: Vec<String>, passthrough: bool) -> Result<Self, GpuError> {
+    pub(crate) unsafe fn new(label: &str, words: Vec<u32>, entry_points: Vec<String>, passthrough: bool) -> Result<Self, GpuError> {
         let source = if whole_module_requested() {
-            // SAFETY: the caller's contract.
-            Source::Whole(unsafe { spirv_module(device, label, &words, &entry_points, passthrough)? })
+            // Created at the first use of each specialization (`module`).
+            Source::Whole(words)
         } else {
             let index = EntryPoints::new(words).map_err(|e| GpuError::Shader(format!("{label}: {e}")))?;
             if let Some(missing) = entry_points.iter().find(|e| !index.names().any(|n| n == e.as_str())) {
                 return Err(GpuError::Shader(format!("{label}: its manifest lists entry point {missing:?}, which the SPIR-V lacks")));
             }
-            Source::Split { index, created: Mutex::new(HashMap::new()) }
+            Source::Split(index)
         };
-        Ok(KernelModule { label: label.to_string(), entry_points, passthrough, source })
+        Ok(KernelModule { label: label.to_string(), entry_points, passthrough, source, created: Mutex::new(HashMap::new()) })
     }
 
     /// The entry points (from the manifest).
@@ -64,27 +67,51 @@ impl KernelModule {
     pub(crate) fn describe(&self) -> &'static str {
         match self.source {
             Source::Whole(_) => "whole module per pipeline (HOST_WHOLE_MODULE)",
-            Source::Split { .. } => "one module per entry point",
+            Source::Split(_) => "one module per entry point",
         }
     }
 
-    /// The driver module holding `entry` (created on first use when split).
-    pub(crate) fn module(&self, device: &wgpu::Device, entry: &str) -> Result<wgpu::ShaderModule, GpuError> {
-        match &self.source {
-            Source::Whole(m) => Ok(m.clone()),
-            Source::Split { index, created } => {
-                if let Some(m) = created.lock().unwrap().get(entry) {
-                    return Ok(m.clone());
-                }
-                let words = index.module(entry).map_err(|e| GpuError::Shader(format!("{}: {e}", self.label)))?;
-                let label = format!("{} {entry}", self.label);
-                // SAFETY: the words are a word-for-word subset of the module `new` was given
-                // (its contract): the entry point, every global and the functions it calls.
-                let m = unsafe { spirv_module(device, &label, &words, &[entry.to_string()], self.passthrough)? };
-                created.lock().unwrap().insert(entry.to_string(), m.clone());
-                Ok(m)
+    /// The driver module holding `entry` specialized with `spec` (its specialization constants
+    /// 0..`spec.len()`, [`shader_manifest::spec_constant`]; created on first use), and whether the
+    /// entry point declares any of them (if not, `spec` changed nothing and the module is the
+    /// one every `spec` gets).
+    pub(crate) fn module(&self, device: &wgpu::Device, entry: &str, spec: &[u32]) -> Result<(wgpu::ShaderModule, bool), GpuError> {
+        // The whole module serves every entry point: its key names none.
+        let name = match self.source {
+            Source::Whole(_) => "",
+            Source::Split(_) => entry,
+        };
+        let key = (name.to_string(), spec.to_vec());
+        if let Some(m) = self.created.lock().unwrap().get(&key) {
+            return Ok(m.clone());
+        }
+        let words = match &self.source {
+            Source::Whole(words) => words.clone(),
+            Source::Split(index) => index.module(entry).map_err(|e| GpuError::Shader(format!("{}: {e}", self.label)))?,
+        };
+        let (words, set) = shader_manifest::spec_constant::specialize(&words, spec).map_err(|e| GpuError::Shader(format!("{} {entry}: {e}", self.label)))?;
+        let unspecialized = (name.to_string(), Vec::new());
+        if set == 0 {
+            let mut created = self.created.lock().unwrap();
+            if let Some(m) = created.get(&unspecialized).cloned() {
+                created.insert(key, m.clone());
+                return Ok(m);
             }
         }
+        let (label, names) = match self.source {
+            Source::Whole(_) => (self.label.clone(), self.entry_points.clone()),
+            Source::Split(_) => (format!("{} {entry}", self.label), vec![entry.to_string()]),
+        };
+        // SAFETY: the words are the module `new` was given (its contract), or a word-for-word
+        // subset of it (the entry point, every global and the functions it calls), with at most
+        // the literal values of specialization constants changed.
+        let m = unsafe { spirv_module(device, &label, &words, &names, self.passthrough)? };
+        let mut created = self.created.lock().unwrap();
+        created.insert(key, (m.clone(), set > 0));
+        if set == 0 {
+            created.insert(unspecialized, (m.clone(), false));
+        }
+        Ok((m, set > 0))
     }
 }
 
@@ -120,5 +147,33 @@ mod tests {
             );
             assert!(max < m.words.len() / 2 || sizes.len() < 3, "largest cut {max} of {} words", m.words.len());
         }
+    }
+
+    /// Every SSR pass that reads the parameter record declares the mode words as its
+    /// specialization constants 0..MODE_WORDS (so the GPU backend's pipelines pin them), each
+    /// defaulting to MODE_UNSET. (Another entry point's cut may keep some of them, unused, where
+    /// one of its literals equals their id; nothing passes it values.)
+    #[test]
+    fn ssr_passes_declare_the_mode_words_as_specialization_constants() {
+        use crate::shaders::{load_subgroup, load_variant, DivSqrt};
+        use shader_core::ssr::params::{MODE_UNSET, MODE_WORDS};
+        use shader_manifest::spec_constant::specialize;
+        let values: Vec<u32> = (0..MODE_WORDS as u32).map(|k| 100 + k).collect();
+        let mut ssr = 0;
+        for m in [load_variant(DivSqrt::Exact).unwrap(), load_variant(DivSqrt::Native).unwrap(), load_subgroup().unwrap()] {
+            let index = EntryPoints::new(m.words.clone()).unwrap();
+            for e in &m.manifest.entry_points {
+                let words = index.module(e).unwrap();
+                let (set_words, set) = specialize(&words, &values).unwrap();
+                if e.starts_with("ssr::") && !e.contains("scan") {
+                    assert_eq!(set, MODE_WORDS, "{e}");
+                    ssr += 1;
+                    // The defaults are MODE_UNSET, and exactly the MODE_WORDS literals change.
+                    let changed: Vec<(u32, u32)> = words.iter().zip(&set_words).filter(|(a, b)| a != b).map(|(&a, &b)| (a, b)).collect();
+                    assert_eq!(changed, values.iter().map(|&v| (MODE_UNSET, v)).collect::<Vec<_>>(), "{e}");
+                }
+            }
+        }
+        assert!(ssr >= 2 * 15, "{ssr} SSR entry points in the two main modules");
     }
 }

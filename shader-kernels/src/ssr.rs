@@ -12,7 +12,7 @@
 //! read into the invocation once by [`params`].
 
 use shader_core::buffer::store;
-use shader_core::ssr::params::SsrParams;
+use shader_core::ssr::params::{SsrParams, MODE_UNSET, MODE_WORDS};
 use shader_core::ssr::hits;
 use shader_core::ssr::resolve::{self, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular;
@@ -59,10 +59,22 @@ fn pass(id: UVec3, args: &[PassArgs; 1]) -> Option<(u32, PassArgs)> {
 ///   (5-10 ms each at 128x128); an offset that depends on the dispatch is not one it inlines.
 ///
 /// The CPU launcher passes the record itself; nothing else differs.
+///
+/// `modes` are the entry point's specialization constants 0..[`MODE_WORDS`] (their default,
+/// [`MODE_UNSET`], leaves a field to the record): the GPU backend compiles each pipeline with
+/// the record's own mode words ([`SsrParams::modes`]), so the driver sees them as constants and
+/// drops the code of the paths they exclude. Mesa 22.3's llvmpipe runs both sides of every branch
+/// with the inactive lanes masked and inlines at most four uniform-buffer values; before the
+/// modes were pinned the stochastic resolve ran the colour-pyramid sample of the other colour
+/// mode for every ray it read (the floor scene's resolve 354 ms, with that path removed by hand
+/// 163 ms, Mesa 22.3, 1920x1080).
 #[inline]
-fn params(id: UVec3, consts: &[SsrParams; 1]) -> SsrParams {
-    consts[id.z as usize]
+fn params(id: UVec3, consts: &[SsrParams; 1], modes: [u32; MODE_WORDS]) -> SsrParams {
+    consts[id.z as usize].with_modes(modes)
 }
+
+// The specialization constants' default in the entry points' attributes is this literal.
+const _: () = assert!(MODE_UNSET == 4294967295);
 
 /// Tile classification, invocation `i` (tile `i`, row-major 8x8 tiles): its record (class, rays,
 /// eligible pixels, valid pixels) as u32 bits at `tiles[ob..]`.
@@ -203,10 +215,11 @@ pub fn ssr_hiz_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some((i, a)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     trace::hiz_block(&p, pyr, a.arg, i).store(pyr);
 }
 
@@ -217,10 +230,11 @@ pub fn ssr_color_downsample(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] pyr: &mut [f32],
 ) {
     let Some((i, a)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     resolve::color_block(&p, pyr, a.arg, i).store(pyr);
 }
 
@@ -231,12 +245,13 @@ pub fn ssr_hdrp_emit(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] offsets: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &mut [f32],
 ) {
     let Some((i, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     hdrp_emit(&p, gbuf, offsets, i, pixels);
 }
 
@@ -248,13 +263,14 @@ pub fn ssr_hdrp_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     hdrp_trace(&p, gbuf, depth_pyr, pixels, k, rays, true);
 }
 
@@ -265,13 +281,14 @@ pub fn ssr_ray_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] hits: &mut [f32],
 ) {
     let Some((i, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     hits::hit_record_slot(&p, gbuf, color_pyr, rays, i, hits, (i as usize) * HIT_STRIDE);
 }
 
@@ -282,6 +299,7 @@ pub fn ssr_hdrp_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -289,7 +307,7 @@ pub fn ssr_hdrp_hits(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] hits: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     hdrp_hits(&p, gbuf, color_pyr, rays, pixels, k, hits, true);
 }
 
@@ -301,6 +319,7 @@ pub fn ssr_hdrp_reproject(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -308,7 +327,7 @@ pub fn ssr_hdrp_reproject(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, out, true);
 }
 
@@ -322,6 +341,7 @@ pub fn ssr_hdrp_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -330,7 +350,7 @@ pub fn ssr_hdrp_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some((k, a)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     hdrp_resolve(&p, gbuf, color_pyr, rays, hits, a.arg, pixels, k, out, true);
 }
 
@@ -341,11 +361,12 @@ pub fn sssr_classify(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] tiles: &mut [f32],
 ) {
     let Some((i, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     classify(&p, gbuf, i, tiles, (i as usize) * stochastic::TILE_STRIDE);
 }
 
@@ -357,6 +378,7 @@ pub fn sssr_emit(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] ray_offsets: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixel_offsets: &[f32],
@@ -364,7 +386,7 @@ pub fn sssr_emit(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pixels: &mut [f32],
 ) {
     let Some((i, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     emit(&p, gbuf, ray_offsets, pixel_offsets, i, list, pixels);
 }
 
@@ -375,13 +397,14 @@ pub fn sssr_trace(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] depth_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] list: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rays: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     sssr_trace_entry(&p, gbuf, depth_pyr, list, k, rays, true);
 }
 
@@ -393,6 +416,7 @@ pub fn sssr_hits(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -400,7 +424,7 @@ pub fn sssr_hits(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] hits: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     sssr_hits_entry(&p, gbuf, color_pyr, rays, list, k, hits, true);
 }
 
@@ -413,6 +437,7 @@ pub fn sssr_resolve(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] color_pyr: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] rays: &[f32],
@@ -421,7 +446,7 @@ pub fn sssr_resolve(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, out, true);
 }
 
@@ -432,6 +457,7 @@ pub fn sssr_temporal(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] prev_gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hit_distance: &[f32],
@@ -440,7 +466,7 @@ pub fn sssr_temporal(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [f32],
 ) {
     let Some((i, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     temporal(&p, gbuf, prev_gbuf, hit_distance, current, history, i, out, (i as usize) * stochastic::HISTORY_STRIDE);
 }
 
@@ -453,6 +479,7 @@ pub fn sssr_hit_distance(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] hits: &[f32],
@@ -460,7 +487,7 @@ pub fn sssr_hit_distance(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some((k, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, out, true);
 }
 
@@ -472,6 +499,7 @@ pub fn ssr_specular(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] args: &[PassArgs; 1],
     #[spirv(uniform, descriptor_set = 0, binding = 1)] consts: &[SsrParams; 1],
+    #[spirv(spec_constant(id = 0, default = 4294967295))] modes: [u32; MODE_WORDS],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] gbuf: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] base_color: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] lut: &[f32],
@@ -479,7 +507,7 @@ pub fn ssr_specular(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] out: &mut [f32],
 ) {
     let Some((i, _)) = pass(id, args) else { return };
-    let p = params(id, consts);
+    let p = params(id, consts, modes);
     specular_term(&p, gbuf, base_color, lut, reflection, i, out, (i as usize) * specular::SPECULAR_STRIDE);
 }
 

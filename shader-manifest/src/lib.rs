@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 
 pub mod entry_point;
+pub mod spec_constant;
 
 /// Crates whose sources are compiled into the SPIR-V, relative to the workspace root.
 pub const SHADER_CRATES: [&str; 2] = ["shader-core", "shader-kernels"];

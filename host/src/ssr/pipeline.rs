@@ -368,7 +368,7 @@ impl<'a> Runner<'a> {
         let mut ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args), bytemuck::bytes_of(consts)];
         ins.extend(inputs.iter().map(|v| bytes(v)));
         let spec = OutputSpec { size: out_len * 4, init: init.map(bytes) };
-        let (res, t) = g.dispatch(entry, &ins, &[spec], (gx, gy, 1)).with_context(|| format!("GPU pass {name}"))?;
+        let (res, t) = g.dispatch_specialized(entry, &consts.modes(), &ins, &[spec], (gx, gy, 1)).with_context(|| format!("GPU pass {name}"))?;
         self.record(name, t);
         Ok(bytemuck::cast_slice(&res[0]).to_vec())
     }

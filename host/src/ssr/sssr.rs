@@ -187,7 +187,7 @@ impl Runner<'_> {
                     ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: true },
                 ];
                 let entry = kernel.entry(g)?;
-                let pass = ChainPass { entry, reads: vec![0, 1], writes: vec![2, 3], dispatch: ChainDispatch::Direct(1, 1, 1) };
+                let pass = ChainPass { entry, spec: &[], reads: vec![0, 1], writes: vec![2, 3], dispatch: ChainDispatch::Direct(1, 1, 1) };
                 let (mut out, times) = g.dispatch_chain(&bufs, &[pass]).context("GPU pass scan")?;
                 self.record("compact", times[0]);
                 let rec: Vec<u32> = bytemuck::cast_slice(&out[3].take().unwrap()).to_vec();
@@ -260,25 +260,27 @@ impl Runner<'_> {
         let first_level_arg = bufs.len();
         bufs.extend(level_args.iter().map(|a| ChainBuffer::Input(bytemuck::cast_slice(a))));
         let scan_entry = ScanKernel::Auto.entry(g)?;
+        let modes = consts.modes();
         let mut passes = Vec::new();
         let mut names = Vec::new();
         for (k, &(_, cnt)) in depth_levels.iter().enumerate() {
-            passes.push(ChainPass { entry: "ssr::ssr_hiz_downsample", reads: vec![first_level_arg + k, consts_b], writes: vec![depth_b], dispatch: direct(cnt) });
+            passes.push(ChainPass { entry: "ssr::ssr_hiz_downsample", spec: &modes, reads: vec![first_level_arg + k, consts_b], writes: vec![depth_b], dispatch: direct(cnt) });
             names.push("depth pyramid");
         }
         for (k, &(_, cnt)) in levels.iter().enumerate() {
             let arg = first_level_arg + depth_levels.len() + k;
-            passes.push(ChainPass { entry: "ssr::ssr_color_downsample", reads: vec![arg, consts_b], writes: vec![color_b], dispatch: direct(cnt) });
+            passes.push(ChainPass { entry: "ssr::ssr_color_downsample", spec: &modes, reads: vec![arg, consts_b], writes: vec![color_b], dispatch: direct(cnt) });
             names.push("color pyramid");
         }
-        passes.push(ChainPass { entry: "ssr::sssr_classify", reads: vec![tile_b, consts_b, gbuf_b], writes: vec![tiles_b], dispatch: direct(n) });
+        passes.push(ChainPass { entry: "ssr::sssr_classify", spec: &modes, reads: vec![tile_b, consts_b, gbuf_b], writes: vec![tiles_b], dispatch: direct(n) });
         names.push("classify");
         for (args_b, offsets_b, dispatch_b) in [(ray_scan_b, ray_offsets_b, ray_dispatch_b), (pixel_scan_b, pixel_offsets_b, pixel_dispatch_b)] {
-            passes.push(ChainPass { entry: scan_entry, reads: vec![args_b, tiles_b], writes: vec![offsets_b, dispatch_b], dispatch: ChainDispatch::Direct(1, 1, 1) });
+            passes.push(ChainPass { entry: scan_entry, spec: &[], reads: vec![args_b, tiles_b], writes: vec![offsets_b, dispatch_b], dispatch: ChainDispatch::Direct(1, 1, 1) });
             names.push("compact");
         }
         passes.push(ChainPass {
             entry: "ssr::sssr_emit",
+            spec: &modes,
             reads: vec![tile_b, consts_b, gbuf_b, ray_offsets_b, pixel_offsets_b],
             writes: vec![list_b, plist_b],
             dispatch: direct(n),
@@ -286,6 +288,7 @@ impl Runner<'_> {
         names.push("compact");
         passes.push(ChainPass {
             entry: "ssr::sssr_trace",
+            spec: &modes,
             reads: vec![ray_dispatch_b, consts_b, gbuf_b, depth_b, list_b],
             writes: vec![rays_b],
             dispatch: indirect(ray_dispatch_b),
@@ -293,6 +296,7 @@ impl Runner<'_> {
         names.push("trace");
         passes.push(ChainPass {
             entry: "ssr::sssr_hits",
+            spec: &modes,
             reads: vec![ray_dispatch_b, consts_b, gbuf_b, color_b, rays_b, list_b],
             writes: vec![hits_b],
             dispatch: indirect(ray_dispatch_b),
@@ -300,6 +304,7 @@ impl Runner<'_> {
         names.push("hits");
         passes.push(ChainPass {
             entry: "ssr::sssr_resolve",
+            spec: &modes,
             reads: vec![pixel_dispatch_b, consts_b, gbuf_b, color_b, rays_b, hits_b, plist_b],
             writes: vec![refl_b],
             dispatch: indirect(pixel_dispatch_b),
@@ -376,7 +381,7 @@ impl Runner<'_> {
                 let (args, (gx, gy)) = pass_args(n as u32, &[]);
                 let ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args), bytemuck::bytes_of(consts), bytemuck::cast_slice(gbuf), bytemuck::cast_slice(ray_offsets), bytemuck::cast_slice(pixel_offsets)];
                 let outs = [OutputSpec::zeroed(rays.max(1) * LIST_STRIDE * 4), OutputSpec::zeroed(eligible.max(1) * 4)];
-                let (res, t) = g.dispatch("ssr::sssr_emit", &ins, &outs, (gx, gy, 1)).context("GPU pass compact")?;
+                let (res, t) = g.dispatch_specialized("ssr::sssr_emit", &consts.modes(), &ins, &outs, (gx, gy, 1)).context("GPU pass compact")?;
                 self.record("compact", t);
                 (bytemuck::cast_slice(&res[0]).to_vec(), bytemuck::cast_slice(&res[1]).to_vec())
             }

@@ -162,6 +162,41 @@ pub struct SsrParams {
     pub prev_inv_view: Mat4,
 }
 
+/// Number of [`SsrParams`] fields that choose code paths for a whole dispatch (the mode words:
+/// [`SsrParams::modes`]), which a GPU pipeline pins as specialization constants 0..
+pub const MODE_WORDS: usize = 5;
+
+/// A mode word the pipeline does not pin: the field is read from the record (the kernels'
+/// specialization constants default to it).
+pub const MODE_UNSET: u32 = u32::MAX;
+
+impl SsrParams {
+    /// The mode words: [`SsrParams::flags`], [`SsrParams::sampler`], [`SsrParams::trace_mode`],
+    /// [`SsrParams::temporal_reprojection`] and [`SsrParams::rays_per_quad`], the fields whose
+    /// value chooses which code a dispatch runs rather than what it computes. The GPU backend
+    /// compiles each SSR pipeline with them as specialization constants, so the driver removes
+    /// the paths a dispatch never takes (a driver that runs both sides of a branch with lanes
+    /// masked, as Mesa 22.3's llvmpipe does, would otherwise pay for them on every invocation).
+    #[inline]
+    pub fn modes(&self) -> [u32; MODE_WORDS] {
+        [self.flags, self.sampler, self.trace_mode, self.temporal_reprojection, self.rays_per_quad]
+    }
+
+    /// This record with its mode fields replaced by `modes` ([`SsrParams::modes`]' order), each
+    /// one that is not [`MODE_UNSET`]: how a kernel reads the record under its pipeline's
+    /// specialization constants. `p.with_modes(p.modes()) == p`.
+    #[inline]
+    pub fn with_modes(mut self, modes: [u32; MODE_WORDS]) -> SsrParams {
+        let pick = |pinned: u32, field: u32| if pinned == MODE_UNSET { field } else { pinned };
+        self.flags = pick(modes[0], self.flags);
+        self.sampler = pick(modes[1], self.sampler);
+        self.trace_mode = pick(modes[2], self.trace_mode);
+        self.temporal_reprojection = pick(modes[3], self.temporal_reprojection);
+        self.rays_per_quad = pick(modes[4], self.rays_per_quad);
+        self
+    }
+}
+
 /// Width of mip `level` of a pyramid whose level 0 is `w` wide: ceil(w / 2^level), at least 1.
 #[inline]
 pub fn mip_size(w: u32, level: u32) -> u32 {
@@ -206,4 +241,23 @@ pub fn mip_block_texels(w: u32, h: u32, base: u32, k: u32) -> ([u32; 4], [(u32, 
     let (y0, y1) = mip_children(k / w_above, h);
     let xy = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)];
     ([base + y0 * w + x0, base + y0 * w + x1, base + y1 * w + x0, base + y1 * w + x1], xy)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mode_words_pin_their_own_fields_and_nothing_else() {
+        let p = SsrParams { flags: 5, sampler: 2, trace_mode: 3, temporal_reprojection: 1, rays_per_quad: 2, width: 7, frame: 9, ..SsrParams::default() };
+        assert_eq!(p.modes(), [5, 2, 3, 1, 2]);
+        assert_eq!(p.with_modes(p.modes()), p);
+        assert_eq!(p.with_modes([MODE_UNSET; MODE_WORDS]), p);
+        // Each word sets its field alone.
+        let q = p.with_modes([40, MODE_UNSET, MODE_UNSET, MODE_UNSET, MODE_UNSET]);
+        assert_eq!(q, SsrParams { flags: 40, ..p });
+        let q = p.with_modes([MODE_UNSET, 1, 0, 0, 4]);
+        assert_eq!(q, SsrParams { sampler: 1, trace_mode: 0, temporal_reprojection: 0, rays_per_quad: 4, ..p });
+        assert_eq!(q.modes(), [5, 1, 0, 0, 4]);
+    }
 }
