@@ -8,8 +8,9 @@
 //! as the SSR passes read G-buffer, ray and hit records) or K times from addresses every
 //! invocation shares (`input[j]`, as the SSR passes read their parameter record while it was a
 //! storage buffer), as K `f32` loads or K / 4 `vec4<f32>` loads, and the own-record reads also as
-//! `textureLoad`s of an R32Float texture (host/src/wgsl/storage_texture.wgsl: the way around the
-//! storage-buffer cost a kernel could take); and 16 floats at per-invocation addresses of a 64 KiB
+//! `textureLoad`s of an R32Float texture, one float per fetch, or of an Rgba32Float texture, four
+//! per fetch (host/src/wgsl/storage_texture.wgsl: the way around the storage-buffer cost a kernel
+//! could take); and 16 floats at per-invocation addresses of a 64 KiB
 //! table, held in a storage buffer or in a uniform buffer (host/src/wgsl/storage_table.wgsl: the
 //! energy LUT taps' pattern, and the other buffer such a table could live in). Every GPU result is checked
 //! against the CPU's sums (exact: the inputs are multiples of 1/4), so a kernel that skipped its
@@ -56,21 +57,26 @@ struct Kernel {
     loads: usize,
     shared: bool,
     texture: bool,
+    /// Channels of the texture rows' texels: 1 (R32Float, one `textureLoad` per float) or 4
+    /// (Rgba32Float, one `textureLoad` per four floats); 0 for the storage-buffer rows.
+    channels: u32,
     table: bool,
 }
 
-const KERNELS: [Kernel; 11] = [
-    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false, texture: false, table: false },
-    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false, texture: false, table: false },
-    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false, texture: false, table: false },
-    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true, texture: false, table: false },
-    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false, texture: false, table: false },
-    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false, texture: false, table: false },
-    Kernel { entry: "texel_own_1", floats: 1, loads: 1, shared: false, texture: true, table: false },
-    Kernel { entry: "texel_own_4", floats: 4, loads: 4, shared: false, texture: true, table: false },
-    Kernel { entry: "texel_own_16", floats: 16, loads: 16, shared: false, texture: true, table: false },
-    Kernel { entry: "storage_table_16", floats: 16, loads: 16, shared: false, texture: false, table: true },
-    Kernel { entry: "uniform_table_16", floats: 16, loads: 16, shared: false, texture: false, table: true },
+const KERNELS: [Kernel; 13] = [
+    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false, texture: false, channels: 0, table: false },
+    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false, texture: false, channels: 0, table: false },
+    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false, texture: false, channels: 0, table: false },
+    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true, texture: false, channels: 0, table: false },
+    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false, texture: false, channels: 0, table: false },
+    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false, texture: false, channels: 0, table: false },
+    Kernel { entry: "texel_own_1", floats: 1, loads: 1, shared: false, texture: true, channels: 1, table: false },
+    Kernel { entry: "texel_own_4", floats: 4, loads: 4, shared: false, texture: true, channels: 1, table: false },
+    Kernel { entry: "texel_own_16", floats: 16, loads: 16, shared: false, texture: true, channels: 1, table: false },
+    Kernel { entry: "texel4_own_1", floats: 4, loads: 1, shared: false, texture: true, channels: 4, table: false },
+    Kernel { entry: "texel4_own_4", floats: 16, loads: 4, shared: false, texture: true, channels: 4, table: false },
+    Kernel { entry: "storage_table_16", floats: 16, loads: 16, shared: false, texture: false, channels: 0, table: true },
+    Kernel { entry: "uniform_table_16", floats: 16, loads: 16, shared: false, texture: false, channels: 0, table: true },
 ];
 
 /// The table rows' WGSL (`SPACE`: the table's address space, `PREFIX`: the entry point's prefix).
@@ -103,8 +109,10 @@ pub struct StorageRow {
     pub floats_per_invocation: usize,
     pub load_instructions_per_invocation: usize,
     pub shared_addresses: bool,
-    /// Read from a sampled R32Float texture (`textureLoad`) rather than a storage buffer.
+    /// Read from a sampled texture (`textureLoad`) rather than a storage buffer.
     pub texture: bool,
+    /// The texture's channels: 1 (R32Float) or 4 (Rgba32Float); 0 for a storage buffer.
+    pub texture_channels: u32,
     /// Reads a 64 KiB table at per-invocation addresses (the buffer it is in: the kernel's prefix).
     pub table: bool,
     /// How the GPU time was taken: "timestamp query" (the pass) or "wall clock" (the texture
@@ -170,7 +178,7 @@ pub fn run(a: &StorageArgs) -> Result<()> {
             cpu.push(cpu_sums(k, &input, &mut expected));
         }
         let mut gpu = Vec::new();
-        let texture = if k.texture { Some(TextureKernel::new(g, k.entry, &input, n)?) } else { None };
+        let texture = if k.texture { Some(TextureKernel::new(g, k, &input, n)?) } else { None };
         for run in 0..=a.repeats {
             let (sums, secs) = match &texture {
                 Some(t) => t.run(g)?,
@@ -192,6 +200,7 @@ pub fn run(a: &StorageArgs) -> Result<()> {
             load_instructions_per_invocation: k.loads,
             shared_addresses: k.shared,
             texture: k.texture,
+            texture_channels: k.channels,
             table: k.table,
             gpu_timing: if k.texture { "wall clock" } else { "timestamp query" }.into(),
             gpu_ns_per_invocation: per(gb),
@@ -234,13 +243,15 @@ struct TextureKernel {
 }
 
 impl TextureKernel {
-    fn new(g: &GpuContext, entry: &str, input: &[f32], n: usize) -> Result<TextureKernel> {
+    fn new(g: &GpuContext, k: &Kernel, input: &[f32], n: usize) -> Result<TextureKernel> {
+        let entry = k.entry;
         let device = &g.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let height = (input.len() as u32).div_ceil(TEXTURE_WIDTH);
+        let channels = k.channels;
+        let height = (input.len() as u32).div_ceil(TEXTURE_WIDTH * channels);
         let max = g.limits.max_texture_dimension_2d;
         if height > max {
-            bail!("{entry}: {} floats need a texture {TEXTURE_WIDTH} x {height}, over the adapter's {max} texels; use fewer --invocations", input.len());
+            bail!("{entry}: {} floats need a texture {TEXTURE_WIDTH} x {height} of {channels}-channel texels, over the adapter's {max} texels; use fewer --invocations", input.len());
         }
         let size = wgpu::Extent3d { width: TEXTURE_WIDTH, height, depth_or_array_layers: 1 };
         let texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -249,16 +260,16 @@ impl TextureKernel {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Float,
+            format: if channels == 4 { wgpu::TextureFormat::Rgba32Float } else { wgpu::TextureFormat::R32Float },
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
         let mut texels = input.to_vec();
-        texels.resize((TEXTURE_WIDTH * height) as usize, 0.0);
+        texels.resize((TEXTURE_WIDTH * channels * height) as usize, 0.0);
         g.queue.write_texture(
             wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
             bytemuck::cast_slice(&texels),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(TEXTURE_WIDTH * 4), rows_per_image: Some(height) },
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(TEXTURE_WIDTH * channels * 4), rows_per_image: Some(height) },
             size,
         );
         let groups = groups_2d((n as u32).div_ceil(shader_kernels::WORKGROUP_SIZE));
@@ -361,7 +372,7 @@ fn markdown(info: &RunInfo, a: &StorageArgs, rows: &[StorageRow]) -> String {
     let _ = writeln!(s, "CPU: {} ({} threads); load average at start {:?}  ", info.cpu, info.cpu_threads, info.load_average_start.unwrap_or_default());
     let _ = writeln!(s, "Adapter: {}  ", info.adapter.as_deref().unwrap_or("-"));
     let _ = writeln!(s, "{} invocations per dispatch, fastest of {} runs after a warm-up (median in brackets); every GPU sum checked against the CPU's.\n", a.invocations, a.repeats);
-    let _ = writeln!(s, "Storage rows are timed by timestamp queries around the pass, texture rows (`textureLoad` of an R32Float texture {TEXTURE_WIDTH} texels wide) by the wall clock from submitting the dispatch alone to its completion.\n");
+    let _ = writeln!(s, "Storage rows are timed by timestamp queries around the pass, texture rows (`textureLoad` of an R32Float or, `texel4_`, an Rgba32Float texture {TEXTURE_WIDTH} texels wide) by the wall clock from submitting the dispatch alone to its completion.\n");
     let _ = writeln!(s, "| kernel | floats read per invocation | load instructions | addresses | GPU ns / invocation | GPU load instructions / s | CPU ns / invocation | GPU time / CPU time |");
     let _ = writeln!(s, "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
     for r in rows {
@@ -374,6 +385,7 @@ fn markdown(info: &RunInfo, a: &StorageArgs, rows: &[StorageRow]) -> String {
             match (r.table, r.texture, r.shared_addresses) {
                 (true, ..) if r.kernel.starts_with("uniform") => "64 KiB table, uniform buffer",
                 (true, ..) => "64 KiB table, storage buffer",
+                (false, true, _) if r.texture_channels == 4 => "own record, RGBA texture",
                 (false, true, _) => "own record, texture",
                 (false, false, true) => "shared by all",
                 (false, false, false) => "own record",
