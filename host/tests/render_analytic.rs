@@ -200,7 +200,7 @@ fn white_furnace_compensated_dielectric_matches_the_furnace_kernel() {
 /// Red radiance per pixel, direct light only, of the plane seen from `theta` ([`ortho_at`]) at
 /// 64 x 64 pixels and 256 samples each, lit either by a uniform sky of radiance 1 (`lamp` None) or
 /// by an emissive quad of radiance 1, `lamp` = (half size, height), facing it from above.
-fn overhead(m: &Material, theta: f32, strategy: u32, lamp: Option<(f32, f32)>) -> Vec<f64> {
+fn overhead(m: &Material, theta: f32, strategy: u32, lamp: Option<(f32, f32)>) -> Vec<f32> {
     let mut b = SceneBuilder::new("plane under a light");
     let id = b.material(m.clone());
     b.mesh(&plane(50.0), id, &Mat4::IDENTITY).unwrap();
@@ -219,12 +219,12 @@ fn overhead(m: &Material, theta: f32, strategy: u32, lamp: Option<(f32, f32)>) -
     let sky = env::build(&if lamp.is_some() { EnvSpec::Black } else { EnvSpec::Uniform([1.0; 3]) }, 1.0, 0.0).unwrap();
     let p = params(&ortho_at(theta), 64, 64, strategy, Compensation::Turquin, if lamp.is_some() { 0.0 } else { 1.0 }, 1, 7);
     let img = render(&scene, &sky, &p, 256);
-    img.color.iter().step_by(3).map(|&x| f64::from(x)).collect()
+    img.color.iter().step_by(3).copied().collect()
 }
 
-/// The mean of `a - b` over pixels (two estimates of the same pixels) and its standard error.
-fn paired_difference(a: &[f64], b: &[f64]) -> (f64, f64) {
-    let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+/// The mean of `a - b` over pixels (two estimates of the same pixels) and its standard error, in f64.
+fn paired_difference(a: &[f32], b: &[f32]) -> (f64, f64) {
+    let d: Vec<f64> = a.iter().zip(b).map(|(&x, &y)| f64::from(x) - f64::from(y)).collect();
     let n = d.len() as f64;
     let m = d.iter().sum::<f64>() / n;
     (m, (d.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt())
@@ -242,9 +242,9 @@ fn area_lights_agree_with_the_sky_and_across_estimators() {
     for (m, deg) in [(Material::pbr("metal", [1.0; 3], 1.0, 0.5), 30.0f32), (Material::pbr("plastic", [0.6; 3], 0.0, 0.3), 60.0)] {
         let theta = deg.to_radians();
         let sky = overhead(&m, theta, STRATEGY_BSDF, None);
-        let sky_mean = mean_f64(&sky);
+        let sky_mean = mean(&sky);
         for (name, strategy) in [("mis", STRATEGY_MIS), ("bsdf", STRATEGY_BSDF)] {
-            let lit = mean_f64(&overhead(&m, theta, strategy, Some((10_000.0, 10.0))));
+            let lit = mean(&overhead(&m, theta, strategy, Some((10_000.0, 10.0))));
             eprintln!("{} at {deg} degrees: uniform sky {sky_mean:.4}, hemisphere-filling quad ({name}) {lit:.4}", m.name);
             assert!((lit - sky_mean).abs() < 5e-3, "{} at {deg} degrees, {name}: area light {lit} vs uniform sky {sky_mean}", m.name);
         }
@@ -254,14 +254,10 @@ fn area_lights_agree_with_the_sky_and_across_estimators() {
             let other = overhead(&m, theta, strategy, small);
             let (d, se) = paired_difference(&mis, &other);
             let z = d.abs() / se;
-            eprintln!("{} at {deg} degrees, 2 x 2 quad: mis {:.4}, {name} {:.4}, difference {d:.5} ({z:.1} standard errors)", m.name, mean_f64(&mis), mean_f64(&other));
-            assert!(z < 5.0, "{} at {deg} degrees, 2 x 2 quad: mis {} vs {name} {} ({z:.1} standard errors)", m.name, mean_f64(&mis), mean_f64(&other));
+            eprintln!("{} at {deg} degrees, 2 x 2 quad: mis {:.4}, {name} {:.4}, difference {d:.5} ({z:.1} standard errors)", m.name, mean(&mis), mean(&other));
+            assert!(z < 5.0, "{} at {deg} degrees, 2 x 2 quad: mis {} vs {name} {} ({z:.1} standard errors)", m.name, mean(&mis), mean(&other));
         }
     }
-}
-
-fn mean_f64(v: &[f64]) -> f64 {
-    v.iter().sum::<f64>() / v.len() as f64
 }
 
 /// Direct lighting from one delta light on a plane: every pixel is f(wo, wi) cos(theta_i) E.

@@ -333,8 +333,14 @@ pub fn run(root: &Path, only: &str) -> Result<()> {
             bail!("mutant {:?}: its source piece occurs {n} times in {} (it must occur once; update xtask/src/mutants.rs with the formula's new text)", m.name, m.file);
         }
     }
-    let mut tests: Vec<(&str, &str, &[&str])> = chosen.iter().map(|m| (m.package, m.test, m.filter)).collect();
-    tests.dedup();
+    // Each distinct test once, in the list's order (mutants sharing a test need not be adjacent).
+    let mut tests: Vec<(&str, &str, &[&str])> = Vec::new();
+    for m in &chosen {
+        let t = (m.package, m.test, m.filter);
+        if !tests.contains(&t) {
+            tests.push(t);
+        }
+    }
     for (package, test, filter) in tests {
         let m = chosen.iter().find(|m| (m.package, m.test, m.filter) == (package, test, filter)).expect("listed above");
         eprintln!("[mutants] unchanged source: -p {package} --test {test} {filter:?}");
