@@ -24,8 +24,8 @@ pub(crate) struct KernelModule {
     entry_points: Vec<String>,
     passthrough: bool,
     source: Source,
-    /// Driver modules created, by (entry point, specialization values) (the whole module's under
-    /// every entry point it served), and whether the specialization changed the module.
+    /// Driver modules created, by (entry point, specialization values) (the whole module's by
+    /// ("", values): it serves every entry point), and whether the specialization changed it.
     created: Mutex<HashMap<(String, Vec<u32>), (wgpu::ShaderModule, bool)>>,
 }
 
