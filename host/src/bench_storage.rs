@@ -48,35 +48,42 @@ pub struct StorageArgs {
 }
 
 /// One kernel: its entry point, floats it reads per invocation, load instructions per
-/// invocation, whether every invocation reads the same addresses, whether it reads them
-/// from a sampled texture instead of a storage buffer, and whether it reads a 64 KiB table at
-/// per-invocation addresses ([`TABLE_FLOATS`]; `storage_` / `uniform_`: the buffer it is in).
+/// invocation, whether every invocation reads the same addresses, the channels of the sampled
+/// texture it reads them from instead of a storage buffer (0: a storage buffer), and whether it
+/// reads a 64 KiB table at per-invocation addresses ([`TABLE_FLOATS`]; `storage_` / `uniform_`:
+/// the buffer it is in).
 struct Kernel {
     entry: &'static str,
     floats: usize,
     loads: usize,
     shared: bool,
-    texture: bool,
     /// Channels of the texture rows' texels: 1 (R32Float, one `textureLoad` per float) or 4
     /// (Rgba32Float, one `textureLoad` per four floats); 0 for the storage-buffer rows.
     channels: u32,
     table: bool,
 }
 
+impl Kernel {
+    /// Whether it reads a texture ([`Kernel::channels`] > 0) rather than a storage buffer.
+    fn texture(&self) -> bool {
+        self.channels > 0
+    }
+}
+
 const KERNELS: [Kernel; 13] = [
-    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false, texture: false, channels: 0, table: false },
-    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false, texture: false, channels: 0, table: false },
-    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false, texture: false, channels: 0, table: false },
-    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true, texture: false, channels: 0, table: false },
-    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false, texture: false, channels: 0, table: false },
-    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false, texture: false, channels: 0, table: false },
-    Kernel { entry: "texel_own_1", floats: 1, loads: 1, shared: false, texture: true, channels: 1, table: false },
-    Kernel { entry: "texel_own_4", floats: 4, loads: 4, shared: false, texture: true, channels: 1, table: false },
-    Kernel { entry: "texel_own_16", floats: 16, loads: 16, shared: false, texture: true, channels: 1, table: false },
-    Kernel { entry: "texel4_own_1", floats: 4, loads: 1, shared: false, texture: true, channels: 4, table: false },
-    Kernel { entry: "texel4_own_4", floats: 16, loads: 4, shared: false, texture: true, channels: 4, table: false },
-    Kernel { entry: "storage_table_16", floats: 16, loads: 16, shared: false, texture: false, channels: 0, table: true },
-    Kernel { entry: "uniform_table_16", floats: 16, loads: 16, shared: false, texture: false, channels: 0, table: true },
+    Kernel { entry: "f32_own_1", floats: 1, loads: 1, shared: false, channels: 0, table: false },
+    Kernel { entry: "f32_own_4", floats: 4, loads: 4, shared: false, channels: 0, table: false },
+    Kernel { entry: "f32_own_16", floats: 16, loads: 16, shared: false, channels: 0, table: false },
+    Kernel { entry: "f32_shared_16", floats: 16, loads: 16, shared: true, channels: 0, table: false },
+    Kernel { entry: "vec4_own_1", floats: 4, loads: 1, shared: false, channels: 0, table: false },
+    Kernel { entry: "vec4_own_4", floats: 16, loads: 4, shared: false, channels: 0, table: false },
+    Kernel { entry: "texel_own_1", floats: 1, loads: 1, shared: false, channels: 1, table: false },
+    Kernel { entry: "texel_own_4", floats: 4, loads: 4, shared: false, channels: 1, table: false },
+    Kernel { entry: "texel_own_16", floats: 16, loads: 16, shared: false, channels: 1, table: false },
+    Kernel { entry: "texel4_own_1", floats: 4, loads: 1, shared: false, channels: 4, table: false },
+    Kernel { entry: "texel4_own_4", floats: 16, loads: 4, shared: false, channels: 4, table: false },
+    Kernel { entry: "storage_table_16", floats: 16, loads: 16, shared: false, channels: 0, table: true },
+    Kernel { entry: "uniform_table_16", floats: 16, loads: 16, shared: false, channels: 0, table: true },
 ];
 
 /// The table rows' WGSL (`SPACE`: the table's address space, `PREFIX`: the entry point's prefix).
@@ -162,7 +169,7 @@ pub fn run(a: &StorageArgs) -> Result<()> {
     eprintln!("{}", backend.describe());
     let info = RunInfo::start(Some(g.describe()));
     for prefix in ["f32", "vec4"] {
-        let names: Vec<&str> = KERNELS.iter().filter(|k| !k.texture).map(|k| k.entry).filter(|e| e.starts_with(prefix)).collect();
+        let names: Vec<&str> = KERNELS.iter().filter(|k| !k.texture()).map(|k| k.entry).filter(|e| e.starts_with(prefix)).collect();
         g.add_wgsl(&format!("storage bench ({prefix})"), &wgsl_module(prefix), &names)?;
     }
     g.add_wgsl("storage bench (table in a storage buffer)", &table_module("storage"), &["storage_table_16"])?;
@@ -178,7 +185,7 @@ pub fn run(a: &StorageArgs) -> Result<()> {
             cpu.push(cpu_sums(k, &input, &mut expected));
         }
         let mut gpu = Vec::new();
-        let texture = if k.texture { Some(TextureKernel::new(g, k, &input, n)?) } else { None };
+        let texture = if k.texture() { Some(TextureKernel::new(g, k, &input, n)?) } else { None };
         for run in 0..=a.repeats {
             let (sums, secs) = match &texture {
                 Some(t) => t.run(g)?,
@@ -199,10 +206,10 @@ pub fn run(a: &StorageArgs) -> Result<()> {
             floats_per_invocation: k.floats,
             load_instructions_per_invocation: k.loads,
             shared_addresses: k.shared,
-            texture: k.texture,
+            texture: k.texture(),
             texture_channels: k.channels,
             table: k.table,
-            gpu_timing: if k.texture { "wall clock" } else { "timestamp query" }.into(),
+            gpu_timing: if k.texture() { "wall clock" } else { "timestamp query" }.into(),
             gpu_ns_per_invocation: per(gb),
             gpu_median_ns_per_invocation: per(gm),
             gpu_load_instructions_per_s: (n * k.loads) as f64 / gb,
@@ -413,10 +420,10 @@ mod tests {
         assert!(v.contains("array<vec4<f32>>") && v.contains("fn vec4_own_4") && v.contains("v.x + v.y + v.z + v.w"));
         // Every storage kernel's entry point is in the module of its prefix, every texture
         // kernel's in the texture module.
-        for k in KERNELS.iter().filter(|k| k.texture) {
+        for k in KERNELS.iter().filter(|k| k.texture()) {
             assert!(WGSL_TEXTURE.contains(&format!("fn {}(", k.entry)), "{}", k.entry);
         }
-        for k in KERNELS.iter().filter(|k| !k.texture && !k.table) {
+        for k in KERNELS.iter().filter(|k| !k.texture() && !k.table) {
             let prefix = k.entry.split('_').next().unwrap();
             assert!(wgsl_module(prefix).contains(&format!("fn {}(", k.entry)), "{}", k.entry);
         }
