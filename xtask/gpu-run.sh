@@ -53,10 +53,10 @@ export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp/xdg-runtime}
 mkdir -p "$XDG_RUNTIME_DIR"
 [ -n "${GPU_RUN_ADAPTER:-}" ] && export HOST_ADAPTER=$GPU_RUN_ADAPTER
 
-# The tests read the shared scenes through the path baked in at build time.
+# The tests read the repository's scenes through the path baked in at build time.
 . "$here/baked.env"
-mkdir -p "$BAKED_ROOT/tests" "$BAKED_SHARED/scenes"
-[ -d "$BAKED_SHARED/scenes/cornell_box" ] || cp -r "$here/scenes/cornell_box" "$BAKED_SHARED/scenes/"
+mkdir -p "$BAKED_ROOT/tests" "$BAKED_ROOT/scenes"
+[ -d "$BAKED_ROOT/scenes/cornell_box" ] || cp -r "$here/scenes/cornell_box" "$BAKED_ROOT/scenes/"
 
 bin=/tmp/gpu-bundle-bin
 mkdir -p "$bin"

@@ -42,9 +42,19 @@ fn cpu_model() -> String {
 /// shows the ones that are set, so a report's command reruns the same configuration.
 pub const ADAPTER_ENV: [&str; 6] = ["VK_ICD_FILENAMES", "VK_DRIVER_FILES", "HOST_ADAPTER", "HOST_DIV_SQRT", "HOST_NO_SUBGROUPS", "HOST_NO_PASSTHROUGH"];
 
-/// The [`ADAPTER_ENV`] variables that are set, as `K=V ` words (empty when none is).
+/// The [`ADAPTER_ENV`] variables that are set, as `K=V ` words (empty when none is). Paths
+/// under the current directory (the ICD files of `cargo xtask lavapipe`, under `target/`) are
+/// shown relative to it, so a report names no folder of the machine it ran on.
 pub fn adapter_env() -> String {
-    ADAPTER_ENV.iter().filter_map(|k| std::env::var(k).ok().filter(|v| !v.is_empty()).map(|v| format!("{k}={v} "))).collect()
+    let cwd = std::env::current_dir().ok();
+    let shown = |v: String| -> String {
+        let Some(cwd) = &cwd else { return v };
+        v.split(':')
+            .map(|part| std::path::Path::new(part).strip_prefix(cwd).map_or_else(|_| part.to_string(), |rel| rel.display().to_string()))
+            .collect::<Vec<_>>()
+            .join(":")
+    };
+    ADAPTER_ENV.iter().filter_map(|k| std::env::var(k).ok().filter(|v| !v.is_empty()).map(|v| format!("{k}={} ", shown(v)))).collect()
 }
 
 /// This process's command line after [`adapter_env`]

@@ -17,7 +17,7 @@ fn digest(o: &Output) -> String {
     e[at + 13..at + 29].to_string()
 }
 
-const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
 
 #[test]
 fn builtin_render_writes_exr_png_and_json_and_is_reproducible() {

@@ -14,7 +14,7 @@ use shader_core::pt::gbuffer::GBufferParams;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
 use std::process::{Command, Output};
 
-const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
 
 fn quad(y: f32, s: f32) -> MeshData {
     MeshData {

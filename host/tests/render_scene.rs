@@ -10,8 +10,8 @@ use shader_core::pt::surface::alpha_passes;
 use shader_core::pt::triangle;
 use shader_core::Vec3;
 
-/// The shared Cornell box (`shared/` lies beside the repository).
-const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+/// The Cornell box of `scenes/cornell_box/` (NVIDIA, BSD-3).
+const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
 
 /// Checks the flattened BVH: header, skip indices, leaf ranges covering every triangle exactly
 /// once, every node's box containing its triangles and its children's boxes.
@@ -337,7 +337,7 @@ fn load_err(p: &Path) -> String {
 #[test]
 #[allow(clippy::approx_constant)] // the glTF file's yfov, 0.7854, not pi/4
 fn cornell_box_loads_with_its_camera_and_materials() {
-    let s = Scene::load(CORNELL).expect("the shared Cornell box loads");
+    let s = Scene::load(CORNELL).expect("the Cornell box of `scenes/cornell_box/` loads");
     check_bvh(&s);
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     assert_eq!(s.counts.materials, 3);

@@ -1,12 +1,12 @@
 //! The project's glTF writer and the SSR benchmark's glTF scenes: what is written loads back
 //! through the loader as written (materials, cameras, lights, geometry), without warnings; the
-//! Cornell box variant keeps the shared scene and adds its floor and light; bad input is named.
+//! Cornell box variant keeps the repository's scene and adds its floor and light; bad input is named.
 
 use host::render::scene::gltf_write::{look_rotation, quaternion_from_columns, GltfWriter};
 use host::render::scene::{LightKind, Material, PunctualLight, Scene};
 use host::ssr::gltf_scenes::{cuboid, GltfScene, NAMES};
 
-const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
 
 fn rotate(q: [f32; 4], v: [f64; 3]) -> [f64; 3] {
     let (x, y, z, w) = (q[0] as f64, q[1] as f64, q[2] as f64, q[3] as f64);
@@ -83,14 +83,14 @@ fn benchmark_scenes_load_without_warnings() {
     let cornell = Scene::load(CORNELL).unwrap();
     for name in NAMES {
         let which = GltfScene::by_name(name).unwrap();
-        let path = which.write(dir.path(), std::path::Path::new(CORNELL)).unwrap();
+        let path = which.write(dir.path(), Some(std::path::Path::new(CORNELL))).unwrap();
         let s = Scene::load(&path).unwrap();
         assert!(s.warnings.is_empty(), "{name}: {:?}", s.warnings);
         assert!(!s.cameras.is_empty(), "{name}: a camera");
         assert!(s.counts.punctual_lights >= 1, "{name}: a light");
         match which {
             GltfScene::Cornell => {
-                // The shared box as it is, plus two floor triangles and the lamp.
+                // The box as it is, plus two floor triangles and the lamp.
                 assert_eq!(s.counts.triangles, cornell.counts.triangles + 2);
                 assert_eq!(s.counts.materials, cornell.counts.materials + 1);
                 assert_eq!(s.cameras.len(), cornell.cameras.len());
@@ -100,6 +100,12 @@ fn benchmark_scenes_load_without_warnings() {
         }
     }
     assert!(GltfScene::by_name("nope").is_none());
-    let e = GltfScene::Cornell.write(dir.path(), std::path::Path::new("/nonexistent/box.gltf")).unwrap_err();
+    // Without --cornell the scene is made from the copy built into the program: the same files.
+    let built_in = tempfile::tempdir().unwrap();
+    let a = GltfScene::Cornell.write(built_in.path(), None).unwrap();
+    let b = dir.path().join("cornell.gltf");
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    assert_eq!(std::fs::read(a.with_file_name("cornell.base.bin")).unwrap(), std::fs::read(b.with_file_name("cornell.base.bin")).unwrap());
+    let e = GltfScene::Cornell.write(dir.path(), Some(std::path::Path::new("/nonexistent/box.gltf"))).unwrap_err();
     assert!(format!("{e:#}").contains("/nonexistent/box.gltf"), "{e:#}");
 }

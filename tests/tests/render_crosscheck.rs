@@ -1,5 +1,5 @@
 //! The path tracer CPU vs GPU (0 ULP): every pixel of the radiance and of every AOV, on the
-//! built-in scene for every estimator and compensation mode, on the shared Cornell box over
+//! built-in scene for every estimator and compensation mode, on the Cornell box of `scenes/cornell_box/` over
 //! several progressive launches, and on a test-made scene with textures, a normal map, an alpha
 //! mask, transmission, punctual lights and an environment map; the G-buffer / SSR reference
 //! kernel (`render::pt_gbuffer`) on the Cornell box and the feature scene over progressive
@@ -73,7 +73,7 @@ fn builtin_scene_every_strategy_and_compensation() {
 #[test]
 fn cornell_box_progressive_launches() {
     let Some(gpu) = gpu_backend() else { return };
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
     let scene = Scene::load(path).unwrap();
     let lut = lut();
     let sky = env::build(&EnvSpec::Uniform([1.0, 0.9, 0.8]), 1.0, 0.0).unwrap();
@@ -160,7 +160,7 @@ fn gbuffer_both(tag: &str, gpu: &Backend, inputs: &RenderInputs<'_>, p: &RenderP
 fn gbuffer_and_reference_cornell_box_and_feature_scene() {
     let Some(gpu) = gpu_backend() else { return };
     let lut = lut();
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
     let scene = Scene::load(path).unwrap();
     let sky = env::build(&EnvSpec::Uniform([1.0, 0.9, 0.8]), 1.0, 0.0).unwrap();
     let inputs = RenderInputs { scene: &scene.words, env: &sky.words, lut: &lut };

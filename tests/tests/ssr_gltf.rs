@@ -20,14 +20,14 @@ use shader_core::ssr::params::{TRACE_BRUTE_FORCE, TRACE_HIZ, TRACE_LINEAR};
 use shader_core::ssr::resolve::HIT_STRIDE;
 use shader_core::ssr::trace::RAY_STRIDE;
 
-const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf");
+const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
 const W: u32 = 96;
 const H: u32 = 64;
 
 /// Frames 0 and 1 of `which` (its camera path, or twice the static view), exported on the CPU
 /// at 2 spp without a reference.
 fn frames(which: GltfScene, dir: &std::path::Path) -> (GBuffer, GBuffer) {
-    let path = which.write(dir, std::path::Path::new(CORNELL)).unwrap();
+    let path = which.write(dir, Some(std::path::Path::new(CORNELL))).unwrap();
     let sc = Scene::load(&path).unwrap();
     let e = env::build(&EnvSpec::Uniform(which.sky()), 1.0, 0.0).unwrap();
     let lut = vec![0.0; shader_core::energy::LUT_HEADER];

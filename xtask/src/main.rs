@@ -13,6 +13,7 @@ use std::time::Instant;
 
 mod lavapipe;
 mod mutants;
+mod repo_paths;
 
 /// The nightly that `spirv-builder 0.11.0` requires (its `rust-toolchain.toml`).
 const TOOLCHAIN: &str = "nightly-2026-08-15";
@@ -91,9 +92,13 @@ enum Cmd {
         #[arg(long, default_value = "")]
         only: String,
     },
+    /// Fail if any source, test, script, manifest or doc of the repository names a path outside
+    /// it (xtask/src/repo_paths.rs says the rules): a fresh clone has nothing beside it. Also run
+    /// by `cargo test -p xtask`.
+    CheckPaths,
     /// Pack the real-GPU check for a machine without a Rust toolchain into .gpu-bundle/ (ignored
     /// by git): the host binary and the CPU-vs-GPU test binaries, stripped and xz-compressed, the
-    /// shared Cornell box the tests read, and `run.sh` (xtask/gpu-run.sh), which runs the tests
+    /// Cornell box the tests read, and `run.sh` (xtask/gpu-run.sh), which runs the tests
     /// with CI=true and the kernel, SSR and render benchmarks there and writes its reports to $OUT.
     /// Fails if the bundle would exceed the device tool's 64 MiB transfer.
     GpuBundle {
@@ -128,6 +133,17 @@ fn main() -> Result<()> {
         Cmd::DocsReports { only } => docs_reports(&only),
         Cmd::GpuBundle { tests } => gpu_bundle(&tests),
         Cmd::Mutants { only } => mutants::run(&workspace_root(), &only),
+        Cmd::CheckPaths => {
+            let found = repo_paths::scan_tree(&workspace_root()).context("reading the tree")?;
+            for f in &found {
+                eprintln!("{f}");
+            }
+            if !found.is_empty() {
+                bail!("{} path(s) outside the repository: a fresh clone has nothing beside it", found.len());
+            }
+            eprintln!("[check-paths] no path outside the repository");
+            Ok(())
+        }
     }
 }
 
@@ -137,8 +153,7 @@ const TRANSFER_LIMIT: u64 = (64 - 4) << 20;
 
 fn gpu_bundle(tests: &[String]) -> Result<()> {
     let root = workspace_root();
-    let shared = root.parent().context("the workspace has no parent")?.join("shared");
-    let scenes = shared.join("scenes/cornell_box");
+    let scenes = root.join("scenes/cornell_box");
     if !scenes.join("cornell_box.gltf").exists() {
         bail!("{} is missing: the render and SSR cross-checks read it", scenes.display());
     }
@@ -196,10 +211,7 @@ fn gpu_bundle(tests: &[String]) -> Result<()> {
     }
     std::fs::copy(root.join("xtask/gpu-run.sh"), dir.join("run.sh"))?;
     // The test binaries reach the scenes through CARGO_MANIFEST_DIR baked in at build time.
-    std::fs::write(
-        dir.join("baked.env"),
-        format!("BAKED_ROOT={}\nBAKED_SHARED={}\n", root.display(), shared.display()),
-    )?;
+    std::fs::write(dir.join("baked.env"), format!("BAKED_ROOT={}\n", root.display()))?;
     let head = Command::new("git").current_dir(&root).args(["describe", "--always", "--dirty"]).output().context("running git describe")?;
     std::fs::write(dir.join("commit"), String::from_utf8_lossy(&head.stdout).trim())?;
     let size = dir_size(&dir)?;

@@ -35,9 +35,10 @@ pub struct BenchArgs {
     /// settings match).
     #[arg(long, default_value = "out/ssr-scenes")]
     pub scene_dir: PathBuf,
-    /// glTF scenes: the shared Cornell box the `cornell` scene is made from.
-    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/scenes/cornell_box/cornell_box.gltf"))]
-    pub cornell: PathBuf,
+    /// glTF scenes: the Cornell box `.gltf` (one external buffer) the `cornell` scene is made
+    /// from; default the copy of the repository's `scenes/cornell_box/` built into the program.
+    #[arg(long)]
+    pub cornell: Option<PathBuf>,
     /// glTF scenes: path-traced samples per pixel of the colour buffer (the previous frame).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub colour_spp: u32,
@@ -203,7 +204,7 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
     use crate::render::{CameraSpec, RenderInputs};
     use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
     let t0 = std::time::Instant::now();
-    let path = which.write(&a.scene_dir, &a.cornell)?;
+    let path = which.write(&a.scene_dir, a.cornell.as_deref())?;
     let sc = RenderScene::load(&path).with_context(|| format!("loading {}", path.display()))?;
     if !sc.warnings.is_empty() {
         anyhow::bail!("{}: the project's own scene loads with warnings: {}", path.display(), sc.warnings.join("; "));

@@ -2,7 +2,7 @@
 //! project ([`crate::render::scene::gltf_write`]) and rendered by the path tracer's G-buffer
 //! export (`host render --gbuffer`, [`crate::render::gbuffer`]):
 //!
-//! - `cornell`: the shared Cornell box (`../shared/scenes/cornell_box/`, NVIDIA's RTXGI-era
+//! - `cornell`: the Cornell box of `scenes/cornell_box/` (NVIDIA's RTXGI-era
 //!   reference scene, BSD-3) with a glossy floor (perceptual roughness 0.1, dielectric) laid over
 //!   its own and a point light under the ceiling; its own camera.
 //! - `pillars`: thin objects over floor strips of four roughnesses (0, 0.08, 0.2, 0.35; metal and
@@ -20,6 +20,13 @@ use crate::render::scene::{uv_sphere, LightKind, Material, MeshData, PunctualLig
 use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
+
+/// The repository's Cornell box (`scenes/cornell_box/cornell_box.gltf`, NVIDIA, BSD-3-Clause:
+/// `scenes/cornell_box/LICENSE.txt`), built into the program so the `cornell` scene needs no
+/// file beside it.
+pub const CORNELL_GLTF: &str = include_str!("../../../scenes/cornell_box/cornell_box.gltf");
+/// Its buffer (`cornell_box.bin`, the `uri` of [`CORNELL_GLTF`]'s one buffer).
+pub const CORNELL_BIN: &[u8] = include_bytes!("../../../scenes/cornell_box/cornell_box.bin");
 
 /// Degrees per frame of the `orbit` scene's camera path.
 pub const ORBIT_DEGREES: f64 = 1.5;
@@ -73,8 +80,10 @@ impl GltfScene {
     }
 
     /// Write the scene as `dir/<name>.gltf` (+ `.bin`; the Cornell box's own buffer is copied
-    /// beside it from `cornell_source`, the shared scene's `.gltf`) and return the path.
-    pub fn write(self, dir: &Path, cornell_source: &Path) -> Result<PathBuf> {
+    /// beside it) and return the path. The Cornell box is made from `cornell_source`, a `.gltf`
+    /// with one external buffer, or, when `None`, from the copy of `scenes/cornell_box/` built
+    /// into the program ([`CORNELL_GLTF`]).
+    pub fn write(self, dir: &Path, cornell_source: Option<&Path>) -> Result<PathBuf> {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let path = dir.join(format!("{}.gltf", self.name()));
         match self {
@@ -191,23 +200,32 @@ fn orbit() -> Result<GltfWriter> {
     Ok(w)
 }
 
-/// The shared Cornell box (`source`, a `.gltf` with one buffer) with a glossy floor quad at
-/// 1 mm above its floor (y = 0, x and z in [-1, 1]) and a point light under the ceiling, as
-/// `path`; the source's buffer is copied beside it.
-fn write_cornell(source: &Path, path: &Path) -> Result<()> {
-    let text = std::fs::read_to_string(source).with_context(|| format!("reading the Cornell box {} (pass --cornell)", source.display()))?;
-    let mut doc: Value = serde_json::from_str(&text).with_context(|| format!("parsing {}", source.display()))?;
+/// The Cornell box (`source`, a `.gltf` with one external buffer; `None`: [`CORNELL_GLTF`])
+/// with a glossy floor quad at 1 mm above its floor (y = 0, x and z in [-1, 1]) and a point light
+/// under the ceiling, as `path`; the source's buffer is copied beside it.
+fn write_cornell(source: Option<&Path>, path: &Path) -> Result<()> {
+    let (label, text) = match source {
+        Some(source) => (source.display().to_string(), std::fs::read_to_string(source).with_context(|| format!("reading the Cornell box {} (pass --cornell)", source.display()))?),
+        None => ("the built-in Cornell box".to_string(), CORNELL_GLTF.to_string()),
+    };
+    let mut doc: Value = serde_json::from_str(&text).with_context(|| format!("parsing {label}"))?;
     let buffers = doc["buffers"].as_array().cloned().unwrap_or_default();
     if buffers.len() != 1 {
-        bail!("{}: expected one buffer, found {}", source.display(), buffers.len());
+        bail!("{label}: expected one buffer, found {}", buffers.len());
     }
-    let uri = buffers[0]["uri"].as_str().with_context(|| format!("{}: buffer 0 has no uri", source.display()))?.to_string();
+    let uri = buffers[0]["uri"].as_str().with_context(|| format!("{label}: buffer 0 has no uri"))?.to_string();
     if uri.starts_with("data:") {
-        bail!("{}: an embedded buffer is not supported here", source.display());
+        bail!("{label}: an embedded buffer is not supported here");
     }
-    let src_bin = source.parent().unwrap_or(Path::new("")).join(&uri);
     let bin_name = format!("{}.base.bin", path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
-    std::fs::copy(&src_bin, path.with_file_name(&bin_name)).with_context(|| format!("copying {}", src_bin.display()))?;
+    let bin_path = path.with_file_name(&bin_name);
+    match source {
+        Some(source) => {
+            let src_bin = source.parent().unwrap_or(Path::new("")).join(&uri);
+            std::fs::copy(&src_bin, &bin_path).with_context(|| format!("copying {}", src_bin.display()))?;
+        }
+        None => crate::io::write_file(&bin_path, CORNELL_BIN)?,
+    }
     doc["buffers"][0]["uri"] = json!(bin_name);
     // The floor and the light, written by the project's writer into a second buffer.
     let mut w = GltfWriter::new();
