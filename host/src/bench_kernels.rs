@@ -129,7 +129,19 @@ pub struct KernelReport {
     /// How many functions the run was asked for; `functions` holds fewer while it runs (the
     /// report is rewritten after every function, so a run cut short leaves what it measured).
     pub functions_total: usize,
+    /// The exact build's cost over the native one (`exact_slowdown`) across the functions
+    /// measured on both: median and worst, with the worst function's name.
+    pub exact_slowdown_median: Option<f64>,
+    pub exact_slowdown_worst: Option<f64>,
+    pub exact_slowdown_worst_function: Option<String>,
     pub functions: Vec<KernelRow>,
+}
+
+/// (median, worst, worst function) of the rows' `exact_slowdown`, where any row has one.
+fn exact_slowdown_summary(rows: &[KernelRow]) -> (Option<f64>, Option<f64>, Option<String>) {
+    let both: Vec<(&str, f64)> = rows.iter().filter_map(|k| k.exact_slowdown.map(|x| (k.name.as_str(), x))).collect();
+    let Some(&(worst_name, worst)) = both.iter().max_by(|a, b| a.1.total_cmp(&b.1)) else { return (None, None, None) };
+    (Some(median(both.iter().map(|b| b.1).collect())), Some(worst), Some(worst_name.to_string()))
 }
 
 /// The range each input column is drawn from, by column name: directions are handled apart
@@ -359,6 +371,7 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     // Rewritten after every function, so a run that is stopped (a device call's time limit)
     // leaves a report of what it measured, marked partial.
     let write = |functions: &[KernelRow]| -> Result<String> {
+        let summary = exact_slowdown_summary(functions);
         let report = KernelReport {
             command: crate::report::command_line(),
             cpu: cpu_model(),
@@ -371,6 +384,9 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
             rows: a.rows,
             repeats: a.repeats,
             functions_total: total,
+            exact_slowdown_median: summary.0,
+            exact_slowdown_worst: summary.1,
+            exact_slowdown_worst_function: summary.2,
             functions: functions.to_vec(),
         };
         let md = markdown(&report);
@@ -467,6 +483,10 @@ pub fn markdown(r: &KernelReport) -> String {
             lowest.name
         );
     }
+    if let (Some(med), Some(worst), Some(name)) = (r.exact_slowdown_median, r.exact_slowdown_worst, &r.exact_slowdown_worst_function) {
+        let n = r.functions.iter().filter(|k| k.exact_slowdown.is_some()).count();
+        let _ = writeln!(s, "Exact cost (native rate / exact rate) over {n} functions: median {med:.2}x, worst {worst:.2}x (`{name}`).\n");
+    }
     let _ = writeln!(s, "| function | CPU M/s | CPU 1-thread M/s | CPU scaling | GPU M/s | GPU median M/s | GPU compile ms | GPU native M/s | native compile ms | exact cost | WGSL M/s | rust-gpu / WGSL | exact / WGSL |");
     let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let ms = |c: Option<f64>| c.map_or("-".into(), |c| format!("{:.0}", c * 1e3));
@@ -525,9 +545,23 @@ mod tests {
             rows: 1,
             repeats: 1,
             functions_total: 3,
+            exact_slowdown_median: None,
+            exact_slowdown_worst: None,
+            exact_slowdown_worst_function: None,
             functions: vec![row("a", 1.95), row("b", 1.79), row("c", 1.8)],
         };
         let md = markdown(&report);
+        assert!(!md.contains("Exact cost"), "{md}");
+        // The exact build's cost: median and worst over the rows measured on both builds.
+        let mut rows = report.functions.clone();
+        for (k, x) in rows.iter_mut().zip([Some(1.5), None, Some(2.5)]) {
+            k.exact_slowdown = x;
+        }
+        rows.push(KernelRow { exact_slowdown: Some(1.1), ..row("d", 1.9) });
+        assert_eq!(exact_slowdown_summary(&rows), (Some(1.5), Some(2.5), Some("c".to_string())));
+        let (m, w, n) = exact_slowdown_summary(&rows);
+        let md2 = markdown(&KernelReport { exact_slowdown_median: m, exact_slowdown_worst: w, exact_slowdown_worst_function: n, functions: rows, ..report.clone() });
+        assert!(md2.contains("Exact cost (native rate / exact rate) over 3 functions: median 1.50x, worst 2.50x (`c`)."), "{md2}");
         assert!(md.contains("CPU scaling on 2 threads: median 1.80x, at least 1.8x for 2 of 3 functions, lowest 1.79x (`b`)."), "{md}");
         assert!(md.contains("| b | 2.0 | 1.0 | 1.79 (1.50) |"), "{md}");
     }

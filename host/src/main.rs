@@ -219,6 +219,15 @@ fn info(device: DeviceChoice) -> Result<()> {
         ),
         Err(e) => println!("SPIR-V: unusable: {e}"),
     }
+    // What the exact build's division and square root cost, in SPIR-V instructions per call.
+    let exact = host::shaders::load_variant(host::shaders::DivSqrt::Exact).map_err(anyhow::Error::msg)?;
+    let sizes: Vec<String> = shader_manifest::function_sizes(&exact.words)
+        .map_err(anyhow::Error::msg)?
+        .into_iter()
+        .filter(|(n, _)| shader_manifest::is_kept_function_name(n))
+        .map(|(n, c)| format!("{} {c}", n.rsplit("::").next().unwrap_or(&n)))
+        .collect();
+    println!("exact build's routines (SPIR-V instructions): {}", if sizes.is_empty() { "none named".to_string() } else { sizes.join(", ") });
     let backend = Backend::select(device)?;
     println!("--device {:?} selects: {}", device, backend.describe());
     if let Backend::Gpu(g) = &backend {

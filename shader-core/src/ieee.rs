@@ -1,20 +1,25 @@
-//! Correctly rounded `f32` division and square root (IEEE 754-2019 §5.4.1, round to nearest even) built only from the operations the Vulkan spec ("Precision and Operation of SPIR-V Instructions") requires to be correctly rounded.
+//! Correctly rounded `f32` division and square root (IEEE 754-2019 §5.4.1, round to nearest even) on any conformant Vulkan device: the device's own instruction as a seed, then an exact correction from the operations Vulkan requires to be correctly rounded.
 //!
 //! Vulkan lets `OpFDiv` be off by 2.5 ULP and GLSL.std.450 `Sqrt`/`InverseSqrt` be approximate, so
 //! every division and square root in this crate (and in kernels built on it) goes through [`div`] and
-//! [`sqrt`] here. In the SPIR-V build they run the software routines [`div_soft`] and
-//! [`sqrt_soft`]; on the CPU they are the native `divss`/`sqrtss`, which give the same bits (the
-//! proof below), only faster ([`EXACT`], [`SOFT_ON_CPU`]). The software routines use only `f32` add/sub/mul (exact under round-to-nearest, no contraction:
-//! the shader build decorates them `NoContraction`), comparisons, bit casts, 32-bit integer
-//! arithmetic and `i32`/`u32` casts: no `OpFDiv`, no square-root instruction, no FMA, no 64-bit
-//! integers.
+//! [`sqrt`] here. In the SPIR-V build they run [`div_exact`] and [`sqrt_exact`]; on the CPU they
+//! are the native `divss`/`sqrtss`, which give the same bits (the proof below), only faster
+//! ([`EXACT`], [`SOFT_ON_CPU`]).
 //!
-//! Method (both functions): unpack the operands into a significand in [1, 2) (denormals
-//! normalised) and an exponent; approximate with a Newton iteration from a linear or bit-trick
-//! seed; correct once with the residual computed by Dekker's TwoProduct (exact without FMA under
-//! round-to-nearest); then decide the last bit exactly by the sign of an exact residual against the
-//! rounding midpoint; finally scale by the exponent with one rounding (denormal results rounded
-//! once, gradual underflow; overflow to infinity).
+//! Method (both functions, [`div_with_seed`] and [`sqrt_with_seed`] say why each step is exact):
+//! unpack the operands into significands in [1, 2) (denormals normalised) and an exponent; take
+//! the device's division or square root of the significands as a seed ([`div_seed`],
+//! [`sqrt_seed`]: the only inexact instructions, each in a function of its own whose name says
+//! `seed`), whose error Vulkan bounds (2.5 ULP; the square root's as 1 / InverseSqrt); correct it
+//! once with a residual computed by Dekker's TwoProduct (exact without FMA under
+//! round-to-nearest) and a rough reciprocal, which leaves it within an ULP; decide the last bit
+//! exactly by the sign of an exact residual against the rounding midpoint; finally scale by the
+//! exponent with one rounding (denormal results rounded once, gradual underflow; overflow to
+//! infinity). Everything else is `f32` add/sub/mul (no contraction: the shader build decorates
+//! them `NoContraction`), comparisons, bit casts and 32-bit integer arithmetic: no FMA, no 64-bit
+//! integers, and no branch that holds work (special operands and the denormal paths are
+//! computed alongside and picked by selects, so a driver that runs both sides of every branch,
+//! as Mesa 22.3's llvmpipe does, runs nothing twice).
 //!
 //! Denormals follow the floating-point environment: kept where it keeps them; where it flushes
 //! them (a GPU measured to flush, and then the CPU backend's threads with FTZ/DAZ set), a denormal
@@ -26,44 +31,46 @@
 //! an invalid operation (0/0, inf/inf, sqrt of a negative number) gives the default NaN
 //! `0xffc0_0000`, and signed zeros and infinities follow IEEE 754.
 //!
-//! Proof: this crate's `ieee_exhaustive` test compares [`sqrt_soft`] with the native square
-//! root on all 2^32 bit patterns and [`div_soft`] with the native `/` on structured and random
-//! pairs (10^10 of them).
+//! Proof: this crate's `ieee_exhaustive` test compares [`sqrt_exact`] with the native square
+//! root on all 2^32 bit patterns and [`div_exact`] with the native `/` on structured and random
+//! pairs, and runs the corrections with seeds perturbed to every value the Vulkan bounds allow
+//! (and an ULP beyond): all 2^24 square-root significands, 10^10 division pairs in the documented
+//! run (docs/exactness.md), a seeded sample of each in every test run.
 //!
 //! ```
-//! use shader_core::ieee::{div, div_soft, rsqrt, sqrt, sqrt_soft};
+//! use shader_core::ieee::{div, div_exact, rsqrt, sqrt, sqrt_exact};
 //! let pairs = [(1.0f32, 3.0f32), (2.0, 7.0), (-0.0, 5.0), (1.0e-40, 3.0), (3.0e38, 0.1), (1.0, 0.0)];
 //! for (a, b) in pairs {
 //!     let native = std::hint::black_box(a) / std::hint::black_box(b);
 //!     // Same bits as the native division, on either path.
 //!     assert_eq!(div(a, b).to_bits(), native.to_bits());
-//!     assert_eq!(div_soft(a, b).to_bits(), native.to_bits());
+//!     assert_eq!(div_exact(a, b).to_bits(), native.to_bits());
 //! }
 //! for x in [2.0f32, 0.5, 1.0e-41, 3.0e38, -0.0, f32::INFINITY] {
-//!     assert_eq!(sqrt_soft(x).to_bits(), std::hint::black_box(x).sqrt().to_bits());
-//!     assert_eq!(sqrt(x).to_bits(), sqrt_soft(x).to_bits());
+//!     assert_eq!(sqrt_exact(x).to_bits(), std::hint::black_box(x).sqrt().to_bits());
+//!     assert_eq!(sqrt(x).to_bits(), sqrt_exact(x).to_bits());
 //! }
 //! // Invalid operations give x86's default NaN; sqrt(-0) = -0.
-//! assert_eq!(div_soft(0.0, 0.0).to_bits(), 0xffc0_0000);
-//! assert_eq!(sqrt_soft(-1.0).to_bits(), 0xffc0_0000);
-//! assert_eq!(sqrt_soft(-0.0).to_bits(), (-0.0f32).to_bits());
+//! assert_eq!(div_exact(0.0, 0.0).to_bits(), 0xffc0_0000);
+//! assert_eq!(sqrt_exact(-1.0).to_bits(), 0xffc0_0000);
+//! assert_eq!(sqrt_exact(-0.0).to_bits(), (-0.0f32).to_bits());
 //! // rsqrt is two roundings: 1 / sqrt(x), not a fused reciprocal square root.
 //! assert_eq!(rsqrt(2.0), div(1.0, sqrt(2.0)));
 //! ```
 
-/// The one switch: `true` (default): in the SPIR-V build [`div`] and [`sqrt`] are the software
-/// routines [`div_soft`] and [`sqrt_soft`] (bit-exact on any conformant Vulkan device). `false`
-/// (feature `native-div-sqrt`, for a second, faster SPIR-V build of the same kernels): they are
+/// The one switch: `true` (default): in the SPIR-V build [`div`] and [`sqrt`] are the corrected
+/// routines [`div_exact`] and [`sqrt_exact`] (bit-exact on any conformant Vulkan device). `false`
+/// (feature `native-div-sqrt`, for a second SPIR-V build of the same kernels): they are the bare
 /// `OpFDiv` and GLSL.std.450 `Sqrt`, correctly rounded on Mesa lavapipe but only to 2.5 / ~2 ULP
 /// on other drivers, so bit-exactness with the CPU is then no longer promised.
 pub const EXACT: bool = !cfg!(feature = "native-div-sqrt");
 
-/// `true`: the CPU build runs the software routines too. Off by default: x86-64 `divss` and
-/// `sqrtss` give the same bits (proven by this crate's `ieee_exhaustive` test) 6-7 times
-/// faster in the kernels; turning it on changes no result.
+/// `true`: the CPU build runs the corrected routines too. Off by default: x86-64 `divss` and
+/// `sqrtss` are correctly rounded and give the same bits (proven by this crate's
+/// `ieee_exhaustive` test) several times faster in the kernels; turning it on changes no result.
 pub const SOFT_ON_CPU: bool = false;
 
-/// Whether [`div`] and [`sqrt`] take the software path in this build.
+/// Whether [`div`] and [`sqrt`] take the corrected routines in this build.
 pub const SOFT: bool = EXACT && (cfg!(target_arch = "spirv") || SOFT_ON_CPU);
 
 const SIGN_MASK: u32 = 0x8000_0000;
@@ -76,6 +83,13 @@ const ONE_BITS: u32 = 0x3f80_0000;
 const QUIET_BIT: u32 = 0x0040_0000;
 /// x86's default NaN ("real indefinite") returned by invalid operations.
 const DEFAULT_NAN_BITS: u32 = 0xffc0_0000;
+
+/// `a` where `c`, else `b`: both already computed, so the branch holds no work and drivers
+/// turn it into one select (NIR's peephole select, LLVM's `select`).
+#[inline]
+fn pick<T>(c: bool, a: T, b: T) -> T {
+    if c { a } else { b }
+}
 
 /// 2^k for k in [-126, 127], built from its bits.
 #[inline]
@@ -103,203 +117,201 @@ fn two_prod_split(a: f32, bh: f32, bl: f32) -> (f32, f32) {
 }
 
 /// Significand in [1, 2) and unbiased exponent of a finite nonzero magnitude (bits without sign),
-/// denormals normalised.
+/// denormals normalised (by an exact multiplication by 2^24).
 #[inline]
 fn unpack(abs_bits: u32) -> (f32, i32) {
-    let mut bits = abs_bits;
-    let mut bias = 127;
-    if bits < MIN_NORMAL_BITS {
-        bits = (f32::from_bits(bits) * pow2i(24)).to_bits(); // exact
-        bias = 127 + 24;
-    }
-    let e = (bits >> 23) as i32 - bias;
+    let denormal = abs_bits < MIN_NORMAL_BITS;
+    let bits = pick(denormal, (f32::from_bits(abs_bits) * pow2i(24)).to_bits(), abs_bits);
+    let e = (bits >> 23) as i32 - pick(denormal, 127 + 24, 127) as i32;
     (f32::from_bits((bits & MANT_MASK) | ONE_BITS), e)
 }
 
 /// A magnitude (bits without sign) as the floating-point environment reads it: a denormal is
 /// read as zero where the environment flushes denormals (DAZ: a device that flushes them, and the
 /// CPU backend's threads then, which set FTZ/DAZ), else kept. Found by one multiplication by 2^24,
-/// exact where denormals are kept; so the software routines treat a denormal operand as the
-/// hardware `divss`/`sqrtss` do under the same controls, and their denormal results, made by a
+/// exact where denormals are kept; so the routines treat a denormal operand as the hardware
+/// `divss`/`sqrtss` do under the same controls, and their denormal results, made by a
 /// multiplication in [`scale_rounded`], flush as the hardware's do (x86: tininess after rounding).
 #[inline]
 fn env_magnitude(abs_bits: u32) -> u32 {
-    if abs_bits < MIN_NORMAL_BITS && (f32::from_bits(abs_bits) * pow2i(24)).to_bits() == 0 {
-        0
-    } else {
-        abs_bits
-    }
-}
-
-/// The NaN x86 returns for a NaN operand: the operand with its quiet bit set.
-#[inline]
-fn quiet(bits: u32) -> f32 {
-    f32::from_bits(bits | QUIET_BIT)
+    let flushed = (abs_bits < MIN_NORMAL_BITS) & ((f32::from_bits(abs_bits) * pow2i(24)).to_bits() == 0);
+    pick(flushed, 0, abs_bits)
 }
 
 /// The spacing of the f32 grid just above (`up`) and just below (`dn`) q > 0, normal.
 #[inline]
 fn ulps(q: f32) -> (f32, f32) {
     let up = f32::from_bits(q.to_bits() & INF_BITS) * pow2i(-23);
-    let dn = if (q.to_bits() & MANT_MASK) == 0 { 0.5 * up } else { up };
+    let dn = pick((q.to_bits() & MANT_MASK) == 0, 0.5 * up, up);
     (up, dn)
 }
 
-/// q * 2^k rounded once (ties to even) for q = RN(Q) in [0.5, 2) and the sign `dir` of Q - q:
-/// normal and overflowing results by exact scaling, denormal results by rounding q to the
-/// denormal grid, where a tie of q is broken by `dir` (the only case where rounding q twice
-/// differs from rounding Q once).
+/// q * 2^k rounded once (ties to even) for q = RN(Q) in [0.5, 2) and `dir`, a float of the sign of Q - q:
+/// normal and overflowing results by exact scaling in two steps (the second rounds only on
+/// overflow), denormal results by rounding q to the denormal grid, where a tie of q is broken by
+/// `dir` (the only case where rounding q twice differs from rounding Q once). Both are computed
+/// and one is picked: no branch.
 #[inline]
-fn scale_rounded(q: f32, dir: i32, k: i32) -> f32 {
-    if k >= -125 {
-        let k = if k > 129 { 129 } else { k };
-        if k > 127 {
-            return (q * pow2i(127)) * pow2i(k - 127);
-        }
-        return q * pow2i(k);
-    }
-    let k = if k < -160 { -160 } else { k }; // below 2^-159 everything rounds to 0 anyway
-    let hs = q * pow2i(k + 100); // exact, normal
+fn scale_rounded(q: f32, dir: f32, k: i32) -> f32 {
+    // Normal or overflowing: k in [-125, 129] after the clamp (above 129 everything overflows).
+    let kn = if k > 129 { 129 } else { k };
+    let kn = if kn < -125 { -125 } else { kn };
+    let k1 = kn >> 1;
+    let normal = (q * pow2i(k1)) * pow2i(kn - k1);
+    // Denormal: below 2^-159 everything rounds to 0 anyway.
+    let kd = if k < -160 { -160 } else { k };
+    let kd = if kd > -126 { -126 } else { kd };
+    let hs = q * pow2i(kd + 100); // exact, normal
     let r1 = hs * pow2i(-100); // one rounding onto the denormal grid
     let t = hs - (r1 * pow2i(100)); // exact: what that rounding removed (scaled by 2^100)
     let half = pow2i(-50); // half the denormal spacing 2^-149, scaled by 2^100
-    if t == half && dir > 0 {
-        r1 + f32::from_bits(1)
-    } else if t == -half && dir < 0 {
-        r1 - f32::from_bits(1)
-    } else {
-        r1
-    }
+    let tiny = f32::from_bits(1);
+    let den = pick((t == half) & (dir > 0.0), r1 + tiny, pick((t == -half) & (dir < 0.0), r1 - tiny, r1));
+    pick(k >= -125, normal, den)
 }
 
 /// a / b correctly rounded (round to nearest, ties to even), denormals and signed zeros
-/// included; NaN rules as x86 `divss`: [`div_soft`] where [`SOFT`], else the native `/`.
+/// included; NaN rules as x86 `divss`: [`div_exact`] where [`SOFT`], else the native `/`.
 #[inline]
 pub fn div(a: f32, b: f32) -> f32 {
-    if SOFT { div_soft(a, b) } else { a / b }
+    if SOFT { div_exact(a, b) } else { a / b }
 }
 
 /// sqrt(x) correctly rounded (round to nearest even): sqrt(-0) = -0, sqrt(inf) = inf, x < 0
-/// gives the default NaN, a NaN is returned quieted (x86 `sqrtss`): [`sqrt_soft`] where
+/// gives the default NaN, a NaN is returned quieted (x86 `sqrtss`): [`sqrt_exact`] where
 /// [`SOFT`], else the native square root.
 #[inline]
 pub fn sqrt(x: f32) -> f32 {
-    if SOFT { sqrt_soft(x) } else { native_sqrt(x) }
+    if SOFT { sqrt_exact(x) } else { native_sqrt(x) }
 }
 
-/// [`div`] by the software routine, on every target. Not inlined: rust-gpu inlines every
-/// `#[inline]` function at each call site, which gave every division in a kernel its own ~200
-/// instructions (the path tracer's entry point was 650 k instructions) and the drivers that much
-/// more to compile; one function per module instead (the CPU calls it only in tests and probes).
+/// The seed of [`div_exact`]: the device's own division (one `OpFDiv` in SPIR-V), called only
+/// with `a`, `b` in [1, 2), where Vulkan bounds its error by 2.5 ULP. The only inexact
+/// instruction of the exact build's division: its own function (never inlined; the SPIR-V
+/// check looks for it by name), its result read only by the correction in [`div_with_seed`].
 #[inline(never)]
-pub fn div_soft(a: f32, b: f32) -> f32 {
+pub fn div_seed(a: f32, b: f32) -> f32 {
+    a / b
+}
+
+/// The seed of [`sqrt_exact`]: the device's own square root (GLSL.std.450 `Sqrt`), called only
+/// with `m` in [1, 4), where Vulkan bounds it as 1 / InverseSqrt (2 ULP, then a 2.5-ULP
+/// division). Its own function, as [`div_seed`].
+#[inline(never)]
+pub fn sqrt_seed(m: f32) -> f32 {
+    native_sqrt(m)
+}
+
+/// [`div`] by seed and exact correction, on every target: [`div_with_seed`] with [`div_seed`].
+/// Not inlined: one function per module rather than its ~100 instructions at every division
+/// (the path tracer's entry point was 650 k instructions when it was inlined).
+#[inline(never)]
+pub fn div_exact(a: f32, b: f32) -> f32 {
+    div_with_seed(a, b, div_seed)
+}
+
+/// [`sqrt`] by seed and exact correction, on every target: [`sqrt_with_seed`] with
+/// [`sqrt_seed`]. Not inlined, as [`div_exact`].
+#[inline(never)]
+pub fn sqrt_exact(x: f32) -> f32 {
+    sqrt_with_seed(x, sqrt_seed)
+}
+
+/// a / b correctly rounded from `seed(xa, xb)`, any approximation of xa / xb within 3.5 ULP of
+/// it, for the significands xa, xb in [1, 2) of the operands (the proof runs this with seeds
+/// perturbed to every such value: `ieee_exhaustive`).
+///
+/// Why it is exact: with Q = xa / xb in (1/2, 2) and q0 = seed, |Q - q0| <= 3.5 ULP. The
+/// residual r0 = xa - q0 xb is computed with Dekker's TwoProduct (xa - p0 exact by Sterbenz) to a
+/// relative 2^-24, and q = q0 + r0 y with y = 24/17 - 8/17 xb (|y xb - 1| <= 1/17) leaves
+/// |Q - q| <= 3.5/17 ULP + 1/2 ULP < 1 ULP. Then the remainder r1 = xa - q xb is a float
+/// (|r1| < 2 ULP(q) on the grid of ULP(q) ULP(xb): 24 bits) and TwoProduct gives it exactly, so
+/// comparing 2 r1 with u xb (u the spacing above or below q, both exact) places Q against the
+/// midpoints q +- u/2 (Q is never a midpoint: a 24-bit quotient of 24-bit significands cannot end
+/// in a single 25th bit). The sign of the remainder left after that step is the direction
+/// [`scale_rounded`] needs for a denormal result. Special operands are settled alongside and
+/// picked at the end: no branch holds work.
+#[inline]
+pub fn div_with_seed(a: f32, b: f32, seed: impl Fn(f32, f32) -> f32) -> f32 {
     let (ua, ub) = (a.to_bits(), b.to_bits());
     let sign = (ua ^ ub) & SIGN_MASK;
     let (aa, ab) = (env_magnitude(ua & ABS_MASK), env_magnitude(ub & ABS_MASK));
-    // Zero (a flushed denormal included), infinite or NaN operands (kept denormals go on to the
-    // general path).
-    if aa == 0 || ab == 0 || aa >= INF_BITS || ab >= INF_BITS {
-        if aa > INF_BITS {
-            return quiet(ua);
-        }
-        if ab > INF_BITS {
-            return quiet(ub);
-        }
-        if (aa == INF_BITS && ab == INF_BITS) || (aa == 0 && ab == 0) {
-            return f32::from_bits(DEFAULT_NAN_BITS);
-        }
-        if aa == INF_BITS || ab == 0 {
-            return f32::from_bits(sign | INF_BITS);
-        }
-        return f32::from_bits(sign); // 0 / b or a / inf
-    }
-    let (xa, ea) = unpack(aa);
-    let (xb, eb) = unpack(ab);
-    // Q = xa / xb in (1/2, 2). y ~ 1/xb: linear seed (rel. error <= 1/17), two Newton steps
-    // (rel. error ~2^-16).
+    // Zero (a flushed denormal included), infinite or NaN operands: x86's results. Kept
+    // denormals go on to the general path.
+    let special = (aa == 0) | (ab == 0) | (aa >= INF_BITS) | (ab >= INF_BITS);
+    let invalid = ((aa == INF_BITS) & (ab == INF_BITS)) | ((aa == 0) & (ab == 0));
+    let special_bits = pick(
+        aa > INF_BITS,
+        ua | QUIET_BIT,
+        pick(ab > INF_BITS, ub | QUIET_BIT, pick(invalid, DEFAULT_NAN_BITS, pick((aa == INF_BITS) | (ab == 0), sign | INF_BITS, sign))),
+    );
+    // The general path runs on every operand (1 for a special one: its result is not taken).
+    let (xa, ea) = unpack(pick(special, ONE_BITS, aa));
+    let (xb, eb) = unpack(pick(special, ONE_BITS, ab));
+    let q0 = seed(xa, xb);
+    let y = 1.411_764_7 - (0.470_588_24 * xb);
     let (bh, bl) = split(xb);
-    let mut y = 1.411_764_7 - (0.470_588_24 * xb);
-    y = y + (y * (1.0 - (xb * y)));
-    y = y + (y * (1.0 - (xb * y)));
-    let q0 = xa * y;
-    // One correction with the TwoProduct residual: |Q - q| <= 1/2 ULP + 2^-30 ULP.
     let (p0, e0) = two_prod_split(q0, bh, bl);
     let r0 = (xa - p0) - e0;
-    let mut q = q0 + (r0 * y);
-    // The last bit, exactly: with |Q - q| < 1 ULP the remainder r = xa - q xb is a float and
-    // 2r, u xb are exact, so comparing them places Q against the midpoints q +- u/2 (Q is never
-    // a midpoint: a 24-bit quotient of 24-bit significands cannot end in a single 25th bit).
+    let q = q0 + (r0 * y);
     let (p1, e1) = two_prod_split(q, bh, bl);
     let r1 = (xa - p1) - e1;
     let (up, dn) = ulps(q);
-    let mut dir = 0;
-    if (2.0 * r1) > (up * xb) {
-        q = q + up;
-        dir = -1;
-    } else if (2.0 * r1) < -(dn * xb) {
-        q = q - dn;
-        dir = 1;
-    } else if r1 > 0.0 {
-        dir = 1;
-    } else if r1 < 0.0 {
-        dir = -1;
-    }
+    let above = (2.0 * r1) > (up * xb);
+    let below = (2.0 * r1) < -(dn * xb);
+    let step = pick(above, up, pick(below, -dn, 0.0));
+    let q = q + step;
+    // The sign of Q - q for the chosen q: the remainder less the step's share, whose rounding
+    // keeps its sign (all terms are far above the underflow threshold).
+    let dir = r1 - (step * xb);
     let m = scale_rounded(q, dir, ea - eb);
-    f32::from_bits(m.to_bits() | sign)
+    f32::from_bits(pick(special, special_bits, m.to_bits() | sign))
 }
 
-/// [`sqrt`] by the software routine, on every target. Not inlined, as [`div_soft`].
-#[inline(never)]
-pub fn sqrt_soft(x: f32) -> f32 {
+/// sqrt(x) correctly rounded from `seed(m)`, any approximation of sqrt(m) within 8 ULP of it, for
+/// m in [1, 4) the significand of x scaled to an even exponent (the proof runs this with seeds
+/// perturbed to every such value, on all 2^24 values of m: `ieee_exhaustive`).
+///
+/// Why it is exact: with S = sqrt(m) in [1, 2) and s0 = seed, |S - s0| <= 8 ULP. The residual
+/// r0 = m - s0^2 (TwoProduct; m - p0 exact by Sterbenz) and y, the bit-trick estimate of
+/// 1/sqrt(m) (|y S - 1| < 0.035), give s = s0 + r0 y / 2 with |S - s| <= 8 * 0.035 ULP + 1/2 ULP
+/// < 1 ULP, so sqrt(m) is s or a neighbour. With s+ / s- the floats next to s, the midpoints
+/// satisfy mid+^2 = s s+ + u^2/4 and mid-^2 = s s- + u-^2/4; m and the products lie on a grid
+/// coarser than those u^2/4, so sqrt(m) > mid+ iff m > s s+, and sqrt(m) < mid- iff m <= s s-
+/// (sqrt(s s-) < mid- by the AM-GM inequality). Each comparison is exact: m - p is exact
+/// (Sterbenz) and compared with the TwoProduct error term. Special operands alongside, as in
+/// [`div_with_seed`].
+#[inline]
+pub fn sqrt_with_seed(x: f32, seed: impl Fn(f32) -> f32) -> f32 {
     let ux = x.to_bits();
     let ax = env_magnitude(ux & ABS_MASK);
-    if ax == 0 || ux >= INF_BITS {
-        if ax > INF_BITS {
-            return quiet(ux);
-        }
-        if ax == 0 {
-            return f32::from_bits(ux & SIGN_MASK); // a zero, or a denormal the environment flushed
-        }
-        if ux == INF_BITS {
-            return x;
-        }
-        return f32::from_bits(DEFAULT_NAN_BITS); // x < 0
-    }
-    let (mut m, mut e) = unpack(ax);
-    if (e & 1) != 0 {
-        m = 2.0 * m; // m in [2, 4), e even
-        e = e - 1;
-    }
-    // y ~ 1/sqrt(m): bit-trick seed (rel. error < 3.5%), two Newton steps (rel. error ~2^-16).
-    let hm = 0.5 * m;
-    let mut y = f32::from_bits(0x5f37_59df_u32.wrapping_sub(m.to_bits() >> 1));
-    y = y * (1.5 - (hm * (y * y)));
-    y = y * (1.5 - (hm * (y * y)));
-    let s0 = m * y;
-    // One correction with the TwoProduct residual m - s0^2.
+    // x < 0 and NaN have ux >= INF_BITS, as +inf does.
+    let special = (ax == 0) | (ux >= INF_BITS);
+    let special_bits = pick(
+        ax > INF_BITS,
+        ux | QUIET_BIT,
+        // A zero or a denormal the environment flushed keeps its sign; +inf stays; x < 0 is invalid.
+        pick(ax == 0, ux & SIGN_MASK, pick(ux == INF_BITS, ux, DEFAULT_NAN_BITS)),
+    );
+    let (m, e) = unpack(pick(special, ONE_BITS, ax));
+    let odd = (e & 1) != 0;
+    let m = pick(odd, 2.0 * m, m); // m in [1, 4), e even
+    let e = e - (odd as i32);
+    let s0 = seed(m);
+    let y = f32::from_bits(0x5f37_59df_u32.wrapping_sub(m.to_bits() >> 1));
     let (sh, sl) = split(s0);
     let (p0, e0) = two_prod_split(s0, sh, sl);
     let r0 = (m - p0) - e0;
-    let mut s = s0 + (r0 * (0.5 * y));
-    // The last bit, exactly. With s+ / s- the floats next to s, the midpoints satisfy
-    // mid+^2 = s s+ + u^2/4 and mid-^2 = s s- + u-^2/4; m and the products lie on a grid coarser
-    // than those u^2/4, so sqrt(m) > mid+ iff m > s s+, and sqrt(m) < mid- iff m <= s s-
-    // (sqrt(s s-) < mid- by the AM-GM inequality). Each comparison is exact: m - p is exact
-    // (Sterbenz) and compared with the TwoProduct error term.
+    let s = s0 + (r0 * (0.5 * y));
     let s_up = f32::from_bits(s.to_bits() + 1);
     let (uh, ul) = split(s_up);
     let (pu, eu) = two_prod_split(s, uh, ul);
-    if (m - pu) > eu {
-        s = s_up;
-    } else {
-        let s_dn = f32::from_bits(s.to_bits() - 1);
-        let (dh, dl) = split(s_dn);
-        let (pd, ed) = two_prod_split(s, dh, dl);
-        if (m - pd) <= ed {
-            s = s_dn;
-        }
-    }
-    s * pow2i(e >> 1) // exact: the result is normal
+    let s_dn = f32::from_bits(s.to_bits() - 1);
+    let (dh, dl) = split(s_dn);
+    let (pd, ed) = two_prod_split(s, dh, dl);
+    let s = pick((m - pu) > eu, s_up, pick((m - pd) <= ed, s_dn, s));
+    let r = s * pow2i(e >> 1); // exact: the result is normal
+    f32::from_bits(pick(special, special_bits, r.to_bits()))
 }
 
 /// Make the calling CPU thread flush denormals as a GPU measured to flush them does: x86-64
@@ -342,7 +354,7 @@ mod tests {
     }
 
     fn check_div(a: f32, b: f32) {
-        let (g, w) = (div_soft(a, b), native_div(a, b));
+        let (g, w) = (div_exact(a, b), native_div(a, b));
         assert_eq!(g.to_bits(), w.to_bits(), "{a:e} ({:#x}) / {b:e} ({:#x}): got {g:e} want {w:e}", a.to_bits(), b.to_bits());
     }
 
@@ -364,7 +376,7 @@ mod tests {
     fn sqrt_special_values() {
         for bits in [0u32, 0x8000_0000, 0x7f80_0000, 0xff80_0000, 0x7fc0_0000, 0xffc0_0000, 0x7f80_0001, 0xff80_0001, 1, 0x8000_0001, 0xbf80_0000, 0x3f80_0000, 0x7f7f_ffff] {
             let x = f32::from_bits(bits);
-            assert_eq!(sqrt_soft(x).to_bits(), black_box(x).sqrt().to_bits(), "{bits:#x}");
+            assert_eq!(sqrt_exact(x).to_bits(), black_box(x).sqrt().to_bits(), "{bits:#x}");
             assert_eq!(sqrt(x).to_bits(), black_box(x).sqrt().to_bits(), "{bits:#x}");
         }
     }
@@ -402,7 +414,7 @@ mod tests {
                 for &b in &vals {
                     check_div(a, b);
                 }
-                assert_eq!(sqrt_soft(a).to_bits(), native_sqrt(black_box(a)).to_bits(), "sqrt {:#x}", a.to_bits());
+                assert_eq!(sqrt_exact(a).to_bits(), native_sqrt(black_box(a)).to_bits(), "sqrt {:#x}", a.to_bits());
             }
             // Quotients around the bottom of the normal range (tiny before or after rounding,
             // ties on the denormal grid), and denormal operands of every magnitude.
@@ -422,7 +434,7 @@ mod tests {
                 check_div(f32::from_bits(r1 & 0x807f_ffff), f32::from_bits(r2 & 0x7fff_ffff));
                 check_div(f32::from_bits(r2 & 0x7fff_ffff), f32::from_bits(r1 & 0x807f_ffff));
                 let d = f32::from_bits(r1 & 0x807f_ffff);
-                assert_eq!(sqrt_soft(d).to_bits(), native_sqrt(black_box(d)).to_bits(), "sqrt {:#x}", d.to_bits());
+                assert_eq!(sqrt_exact(d).to_bits(), native_sqrt(black_box(d)).to_bits(), "sqrt {:#x}", d.to_bits());
             }
         })
         .join()

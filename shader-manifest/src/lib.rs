@@ -459,25 +459,166 @@ pub fn inexact_float_instructions(words: &[u32]) -> Result<Vec<(String, usize)>,
     }
     let mut counts = std::collections::BTreeMap::<String, usize>::new();
     for (op, r) in &insts {
-        if let Some((_, name)) = INEXACT_CORE_FLOAT_OPCODES.iter().find(|(o, _)| o == op) {
-            *counts.entry((*name).to_string()).or_default() += 1;
-        } else if *op == OP_EXT_INST && r.len() >= 5 {
-            let (set, inst) = (words[r.start + 3], words[r.start + 4]);
-            let set_name = sets.get(&set).map_or("?", |s| s.as_str());
-            let name = if set_name == "GLSL.std.450" {
-                if EXACT_GLSL_STD_450.contains(&inst) {
-                    continue;
-                }
-                format!("GLSL.std.450 {}", GLSL_STD_450_NAMES.get(inst as usize).unwrap_or(&"?"))
-            } else if set_name.starts_with("NonSemantic.") {
-                continue;
-            } else {
-                format!("{set_name} #{inst}")
-            };
+        if let Some(name) = inexact_name(words, &sets, *op, r) {
             *counts.entry(name).or_default() += 1;
         }
     }
     Ok(counts.into_iter().collect())
+}
+
+/// The name of instruction `op` at `r` if a conformant driver may compute its float result
+/// inexactly (see [`inexact_float_instructions`]), else `None`. `sets`: the module's extended
+/// instruction set imports by id.
+fn inexact_name(words: &[u32], sets: &std::collections::HashMap<u32, String>, op: u32, r: &std::ops::Range<usize>) -> Option<String> {
+    if let Some((_, name)) = INEXACT_CORE_FLOAT_OPCODES.iter().find(|(o, _)| *o == op) {
+        return Some((*name).to_string());
+    }
+    if op != OP_EXT_INST || r.len() < 5 {
+        return None;
+    }
+    let (set, inst) = (words[r.start + 3], words[r.start + 4]);
+    let set_name = sets.get(&set).map_or("?", |s| s.as_str());
+    if set_name == "GLSL.std.450" {
+        if EXACT_GLSL_STD_450.contains(&inst) {
+            return None;
+        }
+        return Some(format!("GLSL.std.450 {}", GLSL_STD_450_NAMES.get(inst as usize).unwrap_or(&"?")));
+    }
+    if set_name.starts_with("NonSemantic.") {
+        return None;
+    }
+    Some(format!("{set_name} #{inst}"))
+}
+
+const OP_NAME: u32 = 5;
+const OP_FUNCTION: u32 = 54;
+const OP_FUNCTION_PARAMETER: u32 = 55;
+const OP_FUNCTION_END: u32 = 56;
+const OP_FUNCTION_CALL: u32 = 57;
+const OP_LABEL: u32 = 248;
+const OP_RETURN_VALUE: u32 = 254;
+
+/// The exact build's rule for the instructions [`inexact_float_instructions`] lists (the seeds
+/// of `shader_core::ieee`): each must sit alone in a function of its own whose `OpName` contains
+/// `seed` (parameters, one label, the instruction, the return of its result: nothing else), and
+/// every call of such a function must sit in a function whose `OpName` contains `ieee` (the
+/// correction that reads the seed). Returns the breaches, each a sentence naming the
+/// instruction or the function; empty for a module that keeps the rule. A module without names
+/// (built without function names) breaches it wherever it holds an inexact instruction.
+pub fn seed_rule_breaches(words: &[u32]) -> Result<Vec<String>, String> {
+    let insts = instructions(words)?;
+    let mut sets = std::collections::HashMap::new();
+    let mut names = std::collections::HashMap::new();
+    for (op, r) in &insts {
+        if *op == OP_EXT_INST_IMPORT && r.len() >= 3 {
+            sets.insert(words[r.start + 1], spirv_string(&words[r.start + 2..r.end]));
+        } else if *op == OP_NAME && r.len() >= 3 {
+            names.insert(words[r.start + 1], spirv_string(&words[r.start + 2..r.end]));
+        }
+    }
+    // Each function: its id, name and instructions (the OpFunction line excluded).
+    let mut functions: Vec<(u32, String, Vec<(u32, std::ops::Range<usize>)>)> = Vec::new();
+    for (op, r) in &insts {
+        if *op == OP_FUNCTION && r.len() >= 5 {
+            let id = words[r.start + 2];
+            functions.push((id, names.get(&id).cloned().unwrap_or_default(), Vec::new()));
+        } else if let Some(f) = functions.last_mut() {
+            if *op != OP_FUNCTION_END {
+                f.2.push((*op, r.clone()));
+            }
+        }
+    }
+    let mut breaches = Vec::new();
+    let mut seeds = std::collections::HashSet::new();
+    for (id, name, body) in &functions {
+        let inexact: Vec<(String, u32)> = body.iter().filter_map(|(op, r)| inexact_name(words, &sets, *op, r).map(|n| (n, words[r.start + 2]))).collect();
+        if inexact.is_empty() {
+            continue;
+        }
+        let shown = if name.is_empty() { format!("function %{id} (no name)") } else { format!("function `{name}`") };
+        if !name.contains("seed") {
+            for (n, _) in &inexact {
+                breaches.push(format!("{n} in {shown}, not a seed function"));
+            }
+            continue;
+        }
+        // Alone: parameters, a label, the one inexact instruction and the return of its result.
+        let rest: Vec<u32> = body.iter().map(|(op, _)| *op).filter(|op| ![OP_FUNCTION_PARAMETER, OP_LABEL].contains(op)).collect();
+        let returns_it = body.iter().any(|(op, r)| *op == OP_RETURN_VALUE && r.len() >= 2 && words[r.start + 1] == inexact[0].1);
+        if inexact.len() != 1 || rest.len() != 2 || !returns_it {
+            breaches.push(format!("{shown} does more than return one seed instruction ({} inexact, {} other instructions)", inexact.len(), rest.len() - inexact.len().min(rest.len())));
+        }
+        seeds.insert(*id);
+    }
+    for (_, name, body) in &functions {
+        for (op, r) in body {
+            if *op == OP_FUNCTION_CALL && r.len() >= 4 && seeds.contains(&words[r.start + 3]) && !name.contains("ieee") {
+                let callee = names.get(&words[r.start + 3]).cloned().unwrap_or_default();
+                let caller = if name.is_empty() { "a function without a name".to_string() } else { format!("`{name}`") };
+                breaches.push(format!("seed function `{callee}` called from {caller}, not from the correction in `ieee`"));
+            }
+        }
+    }
+    Ok(breaches)
+}
+
+/// Every named function of the module with the number of instructions in its body (from its
+/// OpFunction to its OpFunctionEnd, both counted), in module order: what the exact build's
+/// routines cost in instructions (`host info` prints those of `shader_core::ieee`).
+pub fn function_sizes(words: &[u32]) -> Result<Vec<(String, usize)>, String> {
+    let insts = instructions(words)?;
+    let names: std::collections::HashMap<u32, String> =
+        insts.iter().filter(|(op, r)| *op == OP_NAME && r.len() >= 3).map(|(_, r)| (words[r.start + 1], spirv_string(&words[r.start + 2..r.end]))).collect();
+    let mut out = Vec::new();
+    let mut current: Option<(String, usize)> = None;
+    for (op, r) in &insts {
+        if *op == OP_FUNCTION && r.len() >= 5 {
+            current = names.get(&words[r.start + 2]).map(|n| (n.clone(), 0));
+        }
+        if let Some(c) = current.as_mut() {
+            c.1 += 1;
+        }
+        if *op == OP_FUNCTION_END {
+            out.extend(current.take());
+        }
+    }
+    Ok(out)
+}
+
+/// OpNames of functions kept by [`strip_debug_info`]: the seeds and the corrections that call
+/// them ([`seed_rule_breaches`] reads them).
+pub fn is_kept_function_name(name: &str) -> bool {
+    name.contains("ieee")
+}
+
+const OP_STRING: u32 = 7;
+const OP_LINE: u32 = 8;
+const OP_NO_LINE: u32 = 317;
+const OP_SOURCE: u32 = 3;
+const OP_SOURCE_CONTINUED: u32 = 2;
+const OP_SOURCE_EXTENSION: u32 = 4;
+const OP_MEMBER_NAME: u32 = 6;
+const OP_MODULE_PROCESSED: u32 = 330;
+
+/// The module without its debug information (OpLine, OpNoLine, OpString, OpSource*,
+/// OpModuleProcessed, OpMemberName, and every OpName but those of functions whose name
+/// `keep` accepts): the shader build asks rust-gpu for full names so the seed functions can be
+/// found, then keeps only those.
+pub fn strip_debug_info(words: &[u32], keep: impl Fn(&str) -> bool) -> Result<Vec<u32>, String> {
+    let insts = instructions(words)?;
+    let functions: std::collections::HashSet<u32> = insts.iter().filter(|(op, r)| *op == OP_FUNCTION && r.len() >= 5).map(|(_, r)| words[r.start + 2]).collect();
+    let mut out = words[..HEADER_WORDS].to_vec();
+    for (op, r) in &insts {
+        let drop = match *op {
+            OP_LINE | OP_NO_LINE | OP_STRING | OP_SOURCE | OP_SOURCE_CONTINUED | OP_SOURCE_EXTENSION | OP_MODULE_PROCESSED | OP_MEMBER_NAME => true,
+            OP_NAME => !(r.len() >= 3 && functions.contains(&words[r.start + 1]) && keep(&spirv_string(&words[r.start + 2..r.end]))),
+            _ => false,
+        };
+        if !drop {
+            out.extend_from_slice(&words[r.clone()]);
+        }
+    }
+    Ok(out)
 }
 
 const OP_VARIABLE: u32 = 59;
@@ -585,6 +726,67 @@ mod spirv_tests {
         assert!(declare_denorm_mode(&out, DenormMode::FlushToZero).is_err());
         let ftz = declare_denorm_mode(&words, DenormMode::FlushToZero).unwrap();
         assert!(ftz.windows(4).any(|w| w == [(4 << 16) | 16, 5, 4460, 32]));
+    }
+
+    /// A module with a seed `ieee::div_seed` (%10: OpFDiv of its two parameters), the correction
+    /// `ieee::div_exact` (%20) calling it, and a kernel (%30) calling the correction; `kernel_body`
+    /// and `seed_extra` are spliced into the kernel's and the seed's bodies.
+    fn seeded_module(kernel_body: &[u32], seed_extra: &[u32]) -> Vec<u32> {
+        let name = |id: u32, s: &str| {
+            let mut b = s.as_bytes().to_vec();
+            b.push(0);
+            while b.len() % 4 != 0 {
+                b.push(0);
+            }
+            let mut w = vec![((2 + b.len() as u32 / 4) << 16) | 5, id];
+            w.extend(b.chunks(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])));
+            w
+        };
+        let mut w = vec![0x0723_0203, 0x0001_0500, 0, 100, 0];
+        w.extend(name(10, "shader_core::ieee::div_seed"));
+        w.extend(name(20, "shader_core::ieee::div_exact"));
+        w.extend(name(30, "kernel"));
+        w.extend([(3 << 16) | 22, 2, 32, (5 << 16) | 33, 3, 2, 2, 2]);
+        // seed
+        w.extend([(5 << 16) | 54, 2, 10, 0, 3, (3 << 16) | 55, 2, 11, (3 << 16) | 55, 2, 12, (2 << 16) | 248, 13]);
+        w.extend_from_slice(seed_extra);
+        w.extend([(5 << 16) | 136, 2, 14, 11, 12, (2 << 16) | 254, 14, (1 << 16) | 56]);
+        // correction
+        w.extend([(5 << 16) | 54, 2, 20, 0, 3, (3 << 16) | 55, 2, 21, (3 << 16) | 55, 2, 22, (2 << 16) | 248, 23]);
+        w.extend([(6 << 16) | 57, 2, 24, 10, 21, 22, (2 << 16) | 254, 24, (1 << 16) | 56]);
+        // kernel
+        w.extend([(5 << 16) | 54, 2, 30, 0, 3, (3 << 16) | 55, 2, 31, (3 << 16) | 55, 2, 32, (2 << 16) | 248, 33]);
+        w.extend([(6 << 16) | 57, 2, 34, 20, 31, 32]);
+        w.extend_from_slice(kernel_body);
+        w.extend([(2 << 16) | 254, 34, (1 << 16) | 56]);
+        w
+    }
+
+    #[test]
+    fn seed_rule_holds_only_for_lone_seeds_called_by_the_correction() {
+        assert_eq!(seed_rule_breaches(&seeded_module(&[], &[])).unwrap(), Vec::<String>::new());
+        assert_eq!(inexact_float_instructions(&seeded_module(&[], &[])).unwrap(), vec![("OpFDiv".to_string(), 1)]);
+        // A division in the kernel itself.
+        let b = seed_rule_breaches(&seeded_module(&[(5 << 16) | 136, 2, 40, 31, 32], &[])).unwrap();
+        assert_eq!(b.len(), 1, "{b:?}");
+        assert!(b[0].contains("OpFDiv in function `kernel`"), "{b:?}");
+        // The kernel calls the seed directly.
+        let b = seed_rule_breaches(&seeded_module(&[(6 << 16) | 57, 2, 41, 10, 31, 32], &[])).unwrap();
+        assert!(b.len() == 1 && b[0].contains("called from `kernel`"), "{b:?}");
+        // The seed does other work (an OpFMul) beside its division.
+        let b = seed_rule_breaches(&seeded_module(&[], &[(5 << 16) | 133, 2, 15, 11, 12])).unwrap();
+        assert!(b.len() == 1 && b[0].contains("does more than return one seed instruction"), "{b:?}");
+        // Names stripped: nothing can be a seed.
+        let stripped = strip_debug_info(&seeded_module(&[], &[]), |_| false).unwrap();
+        assert!(seed_rule_breaches(&stripped).unwrap()[0].contains("no name"));
+        // Stripping keeps the names asked for and nothing else.
+        let kept = strip_debug_info(&seeded_module(&[], &[]), is_kept_function_name).unwrap();
+        assert_eq!(seed_rule_breaches(&kept).unwrap(), Vec::<String>::new());
+        assert_eq!(kept.len(), seeded_module(&[], &[]).len() - 4, "the kernel's OpName (4 words) removed");
+        assert_eq!(
+            function_sizes(&kept).unwrap(),
+            vec![("shader_core::ieee::div_seed".to_string(), 7), ("shader_core::ieee::div_exact".to_string(), 7)]
+        );
     }
 
     #[test]

@@ -467,7 +467,9 @@ fn build_module(
     builder.release = true;
     builder.multimodule = false;
     builder.build_script.defaults = false;
-    builder.spirv_metadata = cargo_gpu_install::spirv_builder::SpirvMetadata::None;
+    // Full names so the seed functions of shader_core::ieee can be found by name; every name but
+    // theirs and their callers' is stripped below (shader_manifest::strip_debug_info).
+    builder.spirv_metadata = cargo_gpu_install::spirv_builder::SpirvMetadata::Full;
     // spirv-opt reassociates float arithmetic with constants (SPIRV-Tools folding rules apply to
     // every float op not decorated NoContraction), which breaks bit-exactness with the CPU. The
     // driver optimizes the module anyway, under the NoContraction decorations added below.
@@ -477,18 +479,21 @@ fn build_module(
     let result = builder.build().with_context(|| format!("compiling {} to SPIR-V", shader_crate.display()))?;
     let spv_path = result.module.unwrap_single().to_path_buf();
     let raw = std::fs::read(&spv_path).with_context(|| format!("reading {}", spv_path.display()))?;
+    let words = shader_manifest::strip_debug_info(&shader_manifest::spirv_words(&raw), shader_manifest::is_kept_function_name).map_err(anyhow::Error::msg)?;
     // Forbid the driver from contracting or reassociating float arithmetic (see shader-manifest).
-    let words = shader_manifest::decorate_no_contraction(&shader_manifest::spirv_words(&raw))
-        .map_err(anyhow::Error::msg)?;
+    let words = shader_manifest::decorate_no_contraction(&words).map_err(anyhow::Error::msg)?;
     let words = shader_manifest::preserve_signed_zero_inf_nan(&words).map_err(anyhow::Error::msg)?;
     let (total, covered) = shader_manifest::no_contraction_coverage(&words).map_err(anyhow::Error::msg)?;
     eprintln!("[build-shaders] NoContraction on {covered} of {total} float arithmetic instructions");
-    // Division, sqrt, FMA, transcendentals: not required correctly rounded by Vulkan
-    // (shader_core::ieee replaces them; host/tests/stale_shaders.rs fails on any).
+    // Division, sqrt, FMA, transcendentals: not required correctly rounded by Vulkan; only the
+    // seeds of shader_core::ieee may hold them (host/tests/stale_shaders.rs fails otherwise).
     let inexact = shader_manifest::inexact_float_instructions(&words).map_err(anyhow::Error::msg)?;
-    if !inexact.is_empty() && !features.contains(&"native-div-sqrt") {
-        let list: Vec<String> = inexact.iter().map(|(n, c)| format!("{n} x{c}")).collect();
-        eprintln!("[build-shaders] warning: float instructions Vulkan does not require exact: {}", list.join(", "));
+    let list: Vec<String> = inexact.iter().map(|(n, c)| format!("{n} x{c}")).collect();
+    eprintln!("[build-shaders] float instructions Vulkan does not require exact: {}", if list.is_empty() { "none".into() } else { list.join(", ") });
+    if !features.contains(&"native-div-sqrt") {
+        for b in shader_manifest::seed_rule_breaches(&words).map_err(anyhow::Error::msg)? {
+            eprintln!("[build-shaders] warning: {b}");
+        }
     }
     let spv: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let mut entry_points = result.entry_points.clone();

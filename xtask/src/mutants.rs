@@ -27,7 +27,36 @@ pub struct Mutant {
 const STOCHASTIC: &str = "shader-core/src/ssr/stochastic.rs";
 const RESOLVE: &str = "shader-core/src/ssr/resolve.rs";
 
+const IEEE: &str = "shader-core/src/ieee.rs";
+
 pub const MUTANTS: &[Mutant] = &[
+    Mutant {
+        name: "division seed corrected by a quarter of its residual",
+        file: IEEE,
+        from: "let q = q0 + (r0 * y);",
+        to: "let q = q0 + (r0 * (0.25 * y));",
+        package: "shader-core",
+        test: "ieee_exhaustive",
+        filter: &["div_perturbed_seeds_sample"],
+    },
+    Mutant {
+        name: "division's last bit against the whole spacing below, not the midpoint",
+        file: IEEE,
+        from: "let below = (2.0 * r1) < -(dn * xb);",
+        to: "let below = r1 < -(dn * xb);",
+        package: "shader-core",
+        test: "ieee_exhaustive",
+        filter: &["div_perturbed_seeds_sample"],
+    },
+    Mutant {
+        name: "square-root seed corrected by half its residual",
+        file: IEEE,
+        from: "let s = s0 + (r0 * (0.5 * y));",
+        to: "let s = s0 + (r0 * (0.25 * y));",
+        package: "shader-core",
+        test: "ieee_exhaustive",
+        filter: &["sqrt_perturbed_seeds_all_significands"],
+    },
     Mutant {
         name: "stochastic ray weight without G2",
         file: STOCHASTIC,

@@ -53,7 +53,8 @@ pub fn scan_tree(root: &Path) -> std::io::Result<Vec<Finding>> {
                 if !SKIP_DIRS.iter().any(|s| e.file_name() == *s) {
                     stack.push(path);
                 }
-            } else if kind.is_file() {
+            } else if kind.is_file() && e.file_name() != ".git" {
+                // (A worktree's `.git` is a file naming its main repository's folder.)
                 let bytes = std::fs::read(&path)?;
                 let Ok(text) = String::from_utf8(bytes) else { continue };
                 if text.contains('\0') {
