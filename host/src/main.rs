@@ -40,7 +40,11 @@ enum Cmd {
     ///
     /// NumPy input/output, chosen by the `.npy` extension: input shape (rows, inputs) with the
     /// columns in `--list` order, dtype float32 (float64 is rounded to float32); the output
-    /// holds the outputs only, shape (rows, outputs), float32.
+    /// holds the outputs only, shape (rows, outputs), float32. Other extensions (`.npz`, ...)
+    /// are refused; a name without one is CSV.
+    ///
+    /// Errors name the row as data rows counted from 1 in both formats (the CSV header is not
+    /// counted), and the column.
     Eval {
         /// Function name, e.g. ggx_d.
         function: Option<String>,
@@ -139,6 +143,7 @@ fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
             let input = input.context("--input is required (a .csv or .npy file, or - for CSV on standard input)")?;
             let output = output.filter(|p| p.as_os_str() != "-");
             if let Some(p) = &output {
+                host::eval::Format::of(p)?;
                 host::io::prepare_output(p)?;
             }
             let t0 = std::time::Instant::now();
