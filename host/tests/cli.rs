@@ -57,7 +57,8 @@ fn bad_csv_input_is_named_in_the_error() {
     std::fs::write(&input, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,inf,0.5,0.5\n").unwrap();
     let o = host(&["eval", "ggx_d", "-i", input.to_str().unwrap(), "--device", "cpu"], &[]);
     assert!(!o.status.success());
-    assert!(text(&o).contains("row 2, column wm_z"), "{}", text(&o));
+    // the first data row (the header is not counted)
+    assert!(text(&o).contains("row 1, column wm_z"), "{}", text(&o));
     let o = host(&["eval", "no_such_function", "-i", input.to_str().unwrap()], &[]);
     assert!(!o.status.success());
     assert!(text(&o).contains("unknown function"), "{}", text(&o));
@@ -461,4 +462,46 @@ fn ssr_passes_times_every_backend_and_compares_their_bits() {
     fails_with(&["ssr", "passes", "--config", "--scene floor --pipeline sssr --resolve 3x3", w, h, "--devices", "cpu"], &["--resolve", "--pipeline hdrp"]);
     fails_with(&["ssr", "passes", "--config", "--scene floor --thickness=-1", w, h, "--devices", "cpu"], &["--thickness", "[0, 1]"]);
     fails_with(&["ssr", "passes", "--rounds", "0"], &["--rounds"]);
+}
+
+/// `-o out.npz` is refused before any work (only .csv and .npy are written), and CSV and .npy
+/// inputs name a bad row the same way: data rows from 1, the header not counted.
+#[test]
+fn eval_refuses_other_formats_and_numbers_rows_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(&csv, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n0,0,1,inf,0.5\n").unwrap();
+    let npz = dir.path().join("out.npz");
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "-o", npz.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("not .npz") && text(&o).contains(".npy"), "{}", text(&o));
+    assert!(!npz.exists(), "a .npz was written");
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("row 2, column alpha_x"), "{}", text(&o));
+    let mut npy = Vec::new();
+    host::npy::write(&mut npy, &[2, 5], &[0.0, 0.0, 1.0, 0.5, 0.5, 0.0, 0.0, 1.0, f32::INFINITY, 0.5]).unwrap();
+    let p = dir.path().join("in.npy");
+    std::fs::write(&p, npy).unwrap();
+    let o = host(&["eval", "ggx_d", "-i", p.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("row 2, column alpha_x"), "{}", text(&o));
+    let help = host(&["eval", "--help"], &[]);
+    assert!(text(&help).contains("data rows counted from 1"), "{}", text(&help));
+}
+
+/// `host ssr --input` given a render (not a G-buffer) names the missing channels, not the
+/// render's JSON summary as a bad camera file.
+#[test]
+fn ssr_input_that_is_a_render_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = dir.path().join("render.exr");
+    let o = host(&["render", "--device", "cpu", "--detail", "4", "--width", "8", "--height", "8", "--spp", "1", "--quiet", "-o", r.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let s = dir.path().join("s.exr");
+    let o = host(&["ssr", "--input", r.to_str().unwrap(), "--device", "cpu", "-o", s.to_str().unwrap()], &[]);
+    assert!(!o.status.success());
+    let t = text(&o);
+    assert!(t.contains("is not a G-buffer") && t.contains("roughness") && t.contains("--gbuffer"), "{t}");
+    assert!(!t.contains("camera file"), "{t}");
 }
