@@ -249,6 +249,30 @@ pub fn write_table(f: &FunctionInfo, table: &Table, outputs: &[f32], path: &Path
     })
 }
 
+/// Refuse NaN outputs unless `allow_nonfinite`: the functions return NaN exactly for inputs
+/// outside their domain (a negative or NaN roughness, a zero vector, a cosine outside [-1, 1]:
+/// docs/microfacet.md, "invalid-input behaviour"), so the first such row is named with its
+/// inputs. Infinite outputs are results (some functions are exactly +inf at a bound).
+pub fn check_outputs(f: &FunctionInfo, table: &Table, outputs: &[f32], allow_nonfinite: bool) -> Result<()> {
+    if allow_nonfinite {
+        return Ok(());
+    }
+    let (ni, no) = (f.inputs.len(), f.outputs.len().max(1));
+    if let Some(i) = outputs.iter().position(|v| v.is_nan()) {
+        let r = i / no;
+        let inputs: Vec<String> = f.inputs.iter().zip(&table.values[r * ni..(r + 1) * ni]).map(|(c, v)| format!("{c} = {v}")).collect();
+        bail!(
+            "row {}: {} returns NaN for {} (inputs outside its domain; {} of {} rows so; pass --allow-nonfinite to write NaN rows)",
+            r + 1,
+            f.name,
+            inputs.join(", "),
+            outputs.chunks(no).filter(|row| row.iter().any(|v| v.is_nan())).count(),
+            table.rows
+        );
+    }
+    Ok(())
+}
+
 /// Evaluate `f` over `table` on `backend`.
 pub fn run(backend: &Backend, f: &FunctionInfo, table: &Table) -> Result<(Vec<f32>, Timing)> {
     backend.eval_table(f, &table.values, table.rows)

@@ -64,7 +64,10 @@ enum Cmd {
         /// Backend: auto, cpu or gpu (see `host --help`).
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
-        /// Accept NaN and infinite inputs (for stress testing) instead of rejecting them.
+        /// Accept NaN and infinite inputs, and write NaN outputs (for stress testing), instead of
+        /// rejecting them. Without it, a row whose output is NaN (every function returns NaN for
+        /// inputs outside its domain, such as a negative roughness: docs/microfacet.md) is an
+        /// error naming the row and its inputs.
         #[arg(long)]
         allow_nonfinite: bool,
     },
@@ -152,6 +155,7 @@ fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
             let backend = Backend::select(device)?;
             eprintln!("{}", backend.describe());
             let (out, t) = host::eval::run(&backend, f, &table)?;
+            host::eval::check_outputs(f, &table, &out, allow_nonfinite)?;
             let t1 = std::time::Instant::now();
             match &output {
                 Some(p) => {

@@ -505,3 +505,21 @@ fn ssr_input_that_is_a_render_is_named() {
     assert!(t.contains("is not a G-buffer") && t.contains("roughness") && t.contains("--gbuffer"), "{t}");
     assert!(!t.contains("camera file"), "{t}");
 }
+
+/// An input outside the function's domain (alpha_x = -0.5 for ggx_d, for which every function
+/// returns NaN) is an error naming the row and its inputs, not a NaN row with status 0;
+/// --allow-nonfinite writes the NaN row.
+#[test]
+fn eval_names_a_row_outside_the_domain() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(&csv, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n0,0,1,-0.5,0.5\n").unwrap();
+    let out = dir.path().join("out.csv");
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "-o", out.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("row 2: ggx_d returns NaN") && text(&o).contains("alpha_x = -0.5") && text(&o).contains("1 of 2 rows"), "{}", text(&o));
+    assert!(!out.exists());
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "-o", out.to_str().unwrap(), "--device", "cpu", "--allow-nonfinite"], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(std::fs::read_to_string(&out).unwrap().lines().nth(2).unwrap().ends_with(",NaN"));
+}
