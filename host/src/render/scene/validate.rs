@@ -5,8 +5,12 @@
 //!
 //! Checked here:
 //! - `asset.version` is 2.x and `asset.minVersion`, when given, is at most 2.0;
-//! - a primitive's `POSITION` accessor index is in range (the `gltf` crate's validation indexes
-//!   it unchecked and would panic);
+//! - a primitive's attribute accessor indices are in range (the `gltf` crate's validation indexes
+//!   the `POSITION` one unchecked and would panic), and the accessors the loader reads have the
+//!   types the specification gives them (`POSITION`, `NORMAL` float VEC3, `TANGENT` float VEC4,
+//!   `TEXCOORD_n` VEC2, indices unsigned-integer SCALAR: the `gltf` crate's readers panic on
+//!   others); every accessor's `count` >= 1; a sparse accessor's `count` within its accessor's
+//!   and its indices unsigned integers;
 //! - materials: `baseColorFactor`, `metallicFactor`, `roughnessFactor`, `emissiveFactor`,
 //!   `occlusionTexture.strength`, `transmissionFactor` in [0, 1]; `alphaCutoff` >= 0;
 //!   `normalTexture.scale` finite; `emissiveStrength` finite and >= 0; `ior` finite and >= 1;
@@ -106,13 +110,56 @@ fn asset(root: &json::Root, f: &mut Faults) {
 }
 
 fn positions_in_range(root: &json::Root, f: &mut Faults) {
+    use json::accessor::{ComponentType as C, Type as T};
+    use json::mesh::Semantic as S;
+    use json::validation::Checked;
     let n = root.accessors.len();
+    // (accessor index, JSON path of the reference, allowed (type, component types), float
+    // required to be normalized when integer)
+    let mut used: Vec<(usize, String, T, &[C])> = Vec::new();
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, p) in mesh.primitives.iter().enumerate() {
+            let at = format!("meshes[{mi}].primitives[{pi}]");
             for (sem, acc) in &p.attributes {
+                let path = format!("{at}.attributes.{}", sem.to_string());
                 if acc.value() >= n {
-                    let name = sem.to_string();
-                    f.add(format!("meshes[{mi}].primitives[{pi}].attributes.{name}"), format!("accessor index {} is out of range: the file has {n} accessors", acc.value()));
+                    f.add(path, format!("accessor index {} is out of range: the file has {n} accessors", acc.value()));
+                    continue;
+                }
+                // the attributes the loader reads must have the types the specification gives them
+                match sem {
+                    Checked::Valid(S::Positions) | Checked::Valid(S::Normals) => used.push((acc.value(), path, T::Vec3, &[C::F32])),
+                    Checked::Valid(S::Tangents) => used.push((acc.value(), path, T::Vec4, &[C::F32])),
+                    Checked::Valid(S::TexCoords(_)) => used.push((acc.value(), path, T::Vec2, &[C::F32, C::U8, C::U16])),
+                    _ => {}
+                }
+            }
+            if let Some(i) = &p.indices {
+                if i.value() < n {
+                    used.push((i.value(), format!("{at}.indices"), T::Scalar, &[C::U8, C::U16, C::U32]));
+                }
+            }
+        }
+    }
+    for (i, path, ty, comps) in used {
+        let a = &root.accessors[i];
+        let (Checked::Valid(t), Checked::Valid(c)) = (&a.type_, &a.component_type) else { continue };
+        if *t != ty || !comps.contains(&c.0) {
+            f.add(path, format!("accessor {i} is {t:?} of {:?}; this use needs {ty:?} of {}", c.0, comps.iter().map(|c| format!("{c:?}")).collect::<Vec<_>>().join(" or ")));
+        }
+    }
+    for (i, a) in root.accessors.iter().enumerate() {
+        if a.count.0 == 0 {
+            f.add(format!("accessors[{i}].count"), "0: must be at least 1");
+        }
+        if let Some(sp) = &a.sparse {
+            let at = format!("accessors[{i}].sparse");
+            if sp.count.0 == 0 || sp.count.0 > a.count.0 {
+                f.add(format!("{at}.count"), format!("{}: must be in [1, the accessor's count {}]", sp.count.0, a.count.0));
+            }
+            if let Checked::Valid(c) = &sp.indices.component_type {
+                if !matches!(c.0, C::U8 | C::U16 | C::U32) {
+                    f.add(format!("{at}.indices.componentType"), format!("{:?}: must be an unsigned integer type", c.0));
                 }
             }
         }
