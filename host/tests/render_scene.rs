@@ -864,7 +864,7 @@ fn spec_bounds_are_refused_naming_the_json_path() {
     }
     // within the bounds: loads
     let p = quad_with(d, "ok", |v| {
-        light(json!({"type": "spot", "intensity": 0.0, "range": 2.0, "spot": {"innerConeAngle": 0.0, "outerConeAngle": 1.5707963}}))(v);
+        light(json!({"type": "spot", "intensity": 0.0, "range": 2.0, "spot": {"innerConeAngle": 0.0, "outerConeAngle": std::f32::consts::FRAC_PI_2}}))(v);
         v["asset"]["version"] = json!("2.1");
         v["asset"]["minVersion"] = json!("2.0");
     });
