@@ -152,6 +152,22 @@ fn exposure_and_emission_overflow_do_not_give_a_black_image() {
     let lit = png.pixels().filter(|p| p.0 == [255, 255, 255]).count();
     assert!(lit > 0, "no white pixel in the PNG of a 1e30 emitter: {:?}", png.pixels().take(8).collect::<Vec<_>>());
     assert_eq!(json_of(&out.with_extension("json"))["nonfinite_pixels"], 0);
+    // radiance near f32::MAX: warned before rendering; the render names its non-finite pixels
+    let hotter = cornell_copy(dir.path(), "hotter", |v| {
+        v["extensionsUsed"] = serde_json::json!(["KHR_materials_emissive_strength"]);
+        let m = &mut v["materials"][0];
+        m["emissiveFactor"] = serde_json::json!([1.0, 1.0, 1.0]);
+        m["extensions"] = serde_json::json!({"KHR_materials_emissive_strength": {"emissiveStrength": 3e38}});
+    });
+    let r = host(&["render", hotter.to_str().unwrap(), "--device", "cpu", "--width", "8", "--height", "8", "--spp", "4", "--quiet", "-o", o]);
+    let e = stderr(&r);
+    let warned = e.find("warning: material 'white': emitted radiance 3e38 times 4 samples per pixel").unwrap_or_else(|| panic!("no overflow warning: {e}"));
+    assert!(warned < e.find("rendered").unwrap(), "the warning came after the render: {e}");
+    let j = json_of(&out.with_extension("json"));
+    assert!(j["warnings"].as_array().unwrap().iter().any(|w| w.as_str().unwrap().contains("may overflow")), "{j}");
+    // and the sums do overflow: named, the files written for inspection, status 1
+    assert!(j["nonfinite_pixels"].as_u64().unwrap() > 0, "{j}");
+    assert!(!r.status.success() && e.contains("pixels are not finite") && e.contains("wrote"), "{e}");
 }
 
 /// Every output is checked before any rendering: a directory as -o, an unwritable location, a

@@ -263,12 +263,44 @@ impl RenderCommand {
             (false, false) => 1.0,
             (false, true) => 0.5,
         };
+        if let Some(w) = overflow_risk(&scene, &env, self.spp) {
+            eprintln!("warning: {w}");
+            notices.push(w);
+        }
         let lut = match (&self.lut, self.compensation) {
             (None, Compensation::None) => vec![0.0; shader_core::energy::LUT_HEADER],
             (lut, _) => crate::energy::tables_cached(backend, lut)?.lut_buffer(),
         };
         Ok(Prepared { scene, camera, camera_label, env, lut, p_env, notices })
     }
+}
+
+/// Headroom below f32::MAX that a pixel's sum of samples needs: a sample's radiance is the
+/// emitted radiance times BSDF / pdf ratios that can reach 1e4 and more.
+const OVERFLOW_HEADROOM: f64 = 1e4;
+
+/// A warning, before rendering, when the brightest emitter (emitted radiance, punctual intensity
+/// or the environment's mean radiance) times the samples per pixel comes within [`OVERFLOW_HEADROOM`] of f32::MAX:
+/// the per-pixel sums may overflow to infinity (the render then fails naming the non-finite
+/// pixels).
+pub fn overflow_risk(scene: &Scene, env: &environment::Environment, spp: u32) -> Option<String> {
+    let mut peak = (0.0f64, String::new());
+    let mut see = |v: f64, what: String| {
+        if v > peak.0 {
+            peak = (v, what);
+        }
+    };
+    for m in &scene.materials {
+        see(m.emissive.iter().fold(0.0f32, |a, &b| a.max(b)) as f64, format!("material '{}': emitted radiance", m.name));
+    }
+    for l in &scene.punctual_lights {
+        see(l.intensity.iter().fold(0.0f32, |a, &b| a.max(b)) as f64, format!("light '{}': intensity", l.name));
+    }
+    see(env.mean_radiance.iter().fold(0.0f32, |a, &b| a.max(b)) as f64, "environment: mean radiance".to_string());
+    let (v, what) = peak;
+    (v * spp as f64 * OVERFLOW_HEADROOM > f32::MAX as f64).then(|| {
+        format!("{what} {:e} times {spp} samples per pixel comes within {OVERFLOW_HEADROOM:e} of the largest f32 ({:e}): pixel sums may overflow to infinity", v as f32, f32::MAX)
+    })
 }
 
 /// The camera `--camera` names (name or index, [`Scene::camera`]), else the scene's first, else
