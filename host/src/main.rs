@@ -100,6 +100,22 @@ enum Cmd {
         device: DeviceChoice,
     },
     /// Path-trace a glTF scene (or the built-in Cornell box) on the CPU or a GPU: EXR + PNG + JSON.
+    ///
+    /// Without SCENE, renders the built-in Cornell box: an area light, a front row of gold metal
+    /// spheres and a back row of blue plastic spheres with roughness 0 to 1. Writes a linear EXR
+    /// (R, G, B plus albedo.*, normal.* and depth.Z first-hit AOVs, each the mean over the pixel's
+    /// samples), a tone-mapped PNG and a JSON summary (settings, scene, times, rays/s, image
+    /// digest, warnings). The same seed and settings give a bit-identical image on every backend.
+    /// A glTF file that breaks a bound of the specification is refused, naming the JSON path.
+    ///
+    /// Limits: width and height 1..=16384 with at most 2^26 pixels, --spp 1..=1000000,
+    /// --exposure within [-64, 64].
+    ///
+    /// Ctrl-C (SIGINT) finishes the launch under way and writes the samples so far (every pixel
+    /// holds the same number of samples; the JSON says `"interrupted": true` and
+    /// `samples_per_pixel`), then exits with status 130; a second Ctrl-C aborts at once without
+    /// writing. When stderr is not a terminal (a log, CI), a progress line is printed every
+    /// --progress-every seconds instead of the bar.
     Render(host::render::cli::RenderCommand),
     /// Screen-space reflections (HDRP or stochastic SSR) on a built-in scene or an EXR G-buffer.
     ///

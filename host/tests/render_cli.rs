@@ -240,6 +240,10 @@ fn threads_option_sets_the_cpu_backends_threads() {
     let mut zero = args.to_vec();
     zero.extend(["--threads", "0"]);
     assert!(!host(&zero).status.success());
+    let help = host(&["render", "--help"]);
+    for needle in ["2^26 pixels", "--spp 1..=1000000", "Ctrl-C", "\"interrupted\": true", "--progress-every"] {
+        assert!(String::from_utf8_lossy(&help.stdout).contains(needle), "render --help does not say {needle}");
+    }
     let r = host(&["render", "--device", "gpu", "--threads", "2", "--quiet", "-o", o]);
     assert!(!r.status.success());
     assert!(stderr(&r).contains("--threads"), "{}", stderr(&r));

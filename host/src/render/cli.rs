@@ -40,14 +40,7 @@ impl Strategy {
 /// (R, G, B plus albedo.*, normal.* and depth.Z first-hit AOVs, each the mean over the pixel's
 /// samples), a tone-mapped PNG beside it and a JSON summary (settings, scene, times, rays/s,
 /// image digest). The same seed and settings give a bit-identical image on every backend.
-///
-/// Limits: width and height 1..=16384 with at most 2^26 pixels, --spp 1..=1000000.
-///
-/// Ctrl-C (SIGINT) finishes the launch under way and writes the samples so far (every pixel
-/// holds the same number of samples; the JSON says `"interrupted": true` and
-/// `samples_per_pixel`), then exits with status 130; a second Ctrl-C aborts at once without
-/// writing. When stderr is not a terminal (a log, CI), a progress line is printed every
-/// --progress-every seconds instead of the bar.
+/// (`host render --help` shows the doc of the `Render` command in `main.rs`: limits, Ctrl-C.)
 #[derive(clap::Args, Debug, Clone)]
 pub struct RenderCommand {
     /// A glTF 2.0 scene (.gltf with its buffers and images, or .glb); omitted: the built-in scene.
@@ -440,7 +433,8 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     let rendered = super::render_until(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, |d| bar.update(d), interrupted);
     bar.finish();
     let (img, time) = rendered?;
-    let stopped = img.spp < cmd.spp;
+    // a Ctrl-C after the last launch still skips the --gbuffer stage below
+    let stopped = img.spp < cmd.spp || interrupted();
     let mut warnings: Vec<String> = s.warnings.iter().chain(&prep.notices).cloned().collect();
     let wall = t_render.elapsed().as_secs_f64();
     let compile = match &backend {
