@@ -344,3 +344,42 @@ fn a_second_ctrl_c_aborts_without_writing() {
         assert!(!out.with_extension(ext).exists(), "{ext} written after the abort");
     }
 }
+
+/// --look-from / --look-at / --up / --fov steer the camera: placed where the Cornell box's glTF
+/// camera is (eye (0, 1, 3.5) looking down -z) they give its image bit for bit, and another
+/// target or field of view another image; a camera looking at itself, an up along the view and
+/// a field of view out of range are named.
+#[test]
+fn camera_overrides_steer_the_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("v.exr");
+    let o = out.to_str().unwrap();
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", REPO_CORNELL, "--device", "cpu", "--width", "12", "--height", "12", "--spp", "1", "--quiet", "-o", o];
+        args.extend_from_slice(extra);
+        let r = host(&args);
+        (r.status.success(), stderr(&r), if r.status.success() { json_of(&out.with_extension("json"))["digest"].as_str().unwrap().to_string() } else { String::new() })
+    };
+    let (ok, e, plain) = render(&[]);
+    assert!(ok, "{e}");
+    let (ok, e, same) = render(&["--look-from", "0,1,3.5", "--look-at", "0,1,-5", "--up", "0,1,0"]);
+    assert!(ok, "{e}");
+    assert_eq!(same, plain, "the overrides at the glTF camera's own place changed the image");
+    let (ok, e, aside) = render(&["--look-at", "1,1,0"]);
+    assert!(ok, "{e}");
+    assert_ne!(aside, plain);
+    let (ok, e, narrow) = render(&["--fov", "20"]);
+    assert!(ok, "{e}");
+    assert_ne!(narrow, plain);
+    assert!(json_of(&out.with_extension("json"))["camera"].as_str().unwrap().contains("--fov 20"));
+    for (extra, want) in [
+        (&["--look-from", "0,1,3.5", "--look-at", "0,1,3.5"][..], "the camera is at that point"),
+        (&["--up", "0,0,1"][..], "parallel"),
+        (&["--fov", "180"][..], "--fov"),
+        (&["--look-at", "1,2"][..], "three numbers"),
+    ] {
+        let (ok, e, _) = render(extra);
+        assert!(!ok, "{extra:?} was accepted");
+        assert!(e.contains(want), "{extra:?}: {e}");
+    }
+}

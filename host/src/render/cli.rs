@@ -77,6 +77,22 @@ pub struct RenderCommand {
     /// framing the scene from +z). The image's aspect ratio is used; yfov is kept.
     #[arg(long)]
     pub camera: Option<String>,
+    /// Camera override: the eye position x,y,z (world units). Alone, the chosen camera moves
+    /// there keeping its direction.
+    #[arg(long, value_parser = parse_vec3, allow_negative_numbers = true)]
+    pub look_from: Option<[f32; 3]>,
+    /// Camera override: the point x,y,z the camera looks at (from --look-from, else from the
+    /// chosen camera's position).
+    #[arg(long, value_parser = parse_vec3, allow_negative_numbers = true)]
+    pub look_at: Option<[f32; 3]>,
+    /// Camera override: the up direction x,y,z (default: the chosen camera's; not parallel to
+    /// the view direction).
+    #[arg(long, value_parser = parse_vec3, allow_negative_numbers = true)]
+    pub up: Option<[f32; 3]>,
+    /// Camera override: the vertical field of view in degrees, in (0, 180) (perspective cameras
+    /// only).
+    #[arg(long, value_parser = crate::cli_args::f32_in(1e-3, 179.9))]
+    pub fov: Option<f32>,
     /// Exposure of the PNG in stops, within [-64, 64] (the EXR is never scaled).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
@@ -234,6 +250,7 @@ impl RenderCommand {
             eprintln!("warning: {w}");
         }
         let (camera, camera_label) = pick_camera(&scene, self.camera.as_deref())?;
+        let (camera, camera_label) = self.override_camera(camera, camera_label)?;
         let mut notices = Vec::new();
         let spec = match &self.env {
             Some(e) => e.clone(),
@@ -265,6 +282,52 @@ impl RenderCommand {
             (lut, _) => crate::energy::tables_cached(backend, lut)?.lut_buffer(),
         };
         Ok(Prepared { scene, camera, camera_label, env, lut, p_env, notices })
+    }
+}
+
+/// A finite x,y,z.
+fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
+    let v: Vec<f32> = s.split(',').map(|p| p.trim().parse::<f32>()).collect::<Result<_, _>>().map_err(|_| format!("{s:?}: expected three numbers x,y,z"))?;
+    match v.as_slice() {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([*x, *y, *z]),
+        [_, _, _] => Err(format!("{s:?}: the components must be finite")),
+        _ => Err(format!("{s:?}: expected three numbers x,y,z, got {}", v.len())),
+    }
+}
+
+impl RenderCommand {
+    /// The camera with --look-from, --look-at, --up and --fov applied, and its label.
+    pub fn override_camera(&self, mut cam: CameraSpec, label: String) -> Result<(CameraSpec, String)> {
+        let mut what = Vec::new();
+        if let Some(p) = self.look_from {
+            cam.position = p;
+            what.push(format!("--look-from {p:?}"));
+        }
+        if let Some(t) = self.look_at {
+            let d = [t[0] - cam.position[0], t[1] - cam.position[1], t[2] - cam.position[2]];
+            if d == [0.0; 3] {
+                bail!("--look-at {t:?}: the camera is at that point (give another, or --look-from)");
+            }
+            cam.forward = d;
+            what.push(format!("--look-at {t:?}"));
+        }
+        if let Some(u) = self.up {
+            cam.up = u;
+            what.push(format!("--up {u:?}"));
+        }
+        if let Some(f) = self.fov {
+            if cam.yfov.is_none() {
+                bail!("--fov {f}: the camera ({label}) is orthographic");
+            }
+            cam.yfov = Some(f.to_radians());
+            what.push(format!("--fov {f}"));
+        }
+        if what.is_empty() {
+            return Ok((cam, label));
+        }
+        // checked here, with the options named: a zero direction or an up along the view
+        cam.camera(self.width, self.height).with_context(|| format!("camera overrides {}", what.join(" ")))?;
+        Ok((cam, format!("{label} with {}", what.join(" "))))
     }
 }
 
