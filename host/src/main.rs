@@ -30,6 +30,10 @@ enum Cmd {
         /// The choice whose backend to report: auto, cpu or gpu.
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
+        /// Print the same as one JSON object on standard output (adapters, spirv, backend,
+        /// native_div_sqrt).
+        #[arg(long)]
+        json: bool,
     },
     /// Evaluate one shading function over a table (`--list` shows every function and its columns).
     ///
@@ -145,7 +149,7 @@ fn main() {
 
 fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
     match cli.cmd {
-        Cmd::Info { device } => info(device),
+        Cmd::Info { device, json } => info(device, json),
         Cmd::Bench(b) => b.run(),
         Cmd::Energy(e) => e.run(),
         Cmd::Eval { function, list, json, input, output, device, allow_nonfinite } => {
@@ -221,31 +225,38 @@ fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
     }
 }
 
-fn info(device: DeviceChoice) -> Result<()> {
+fn info(device: DeviceChoice, json: bool) -> Result<()> {
     host::gpu::ensure_xdg_runtime_dir();
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
     desc.backends = wgpu::Backends::VULKAN;
     let instance = wgpu::Instance::new(desc);
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
-    println!("Vulkan adapters: {}", adapters.len());
+    // the text lines, and the same facts as JSON
+    let mut text = vec![format!("Vulkan adapters: {}", adapters.len())];
+    let mut list = Vec::new();
     for a in &adapters {
         let i = a.get_info();
-        println!("  {} ({:?}, driver {} {})", i.name, i.device_type, i.driver, i.driver_info);
-        println!("    {}", host::float_controls::describe_adapter(a));
+        let float = host::float_controls::describe_adapter(a);
+        text.push(format!("  {} ({:?}, driver {} {})", i.name, i.device_type, i.driver, i.driver_info));
+        text.push(format!("    {float}"));
+        list.push(serde_json::json!({"name": i.name, "device_type": format!("{:?}", i.device_type), "driver": i.driver, "driver_info": i.driver_info, "float_controls": float}));
     }
-    match host::shaders::load() {
-        Ok(m) => println!(
-            "SPIR-V: {} bytes, entry points {:?}, built with {} / spirv-builder {}, sources {} (fresh)",
-            m.manifest.spv_bytes,
-            m.manifest.entry_points,
-            m.manifest.toolchain,
-            m.manifest.spirv_builder,
-            m.manifest.source_hash
-        ),
-        Err(e) => println!("SPIR-V: unusable: {e}"),
-    }
+    let spirv = match host::shaders::load() {
+        Ok(m) => {
+            text.push(format!(
+                "SPIR-V: {} bytes, entry points {:?}, built with {} / spirv-builder {}, sources {} (fresh)",
+                m.manifest.spv_bytes, m.manifest.entry_points, m.manifest.toolchain, m.manifest.spirv_builder, m.manifest.source_hash
+            ));
+            serde_json::json!({"usable": true, "bytes": m.manifest.spv_bytes, "entry_points": m.manifest.entry_points, "toolchain": m.manifest.toolchain, "spirv_builder": m.manifest.spirv_builder, "source_hash": m.manifest.source_hash})
+        }
+        Err(e) => {
+            text.push(format!("SPIR-V: unusable: {e}"));
+            serde_json::json!({"usable": false, "error": e.to_string()})
+        }
+    };
     let backend = Backend::select(device)?;
-    println!("--device {:?} selects: {}", device, backend.describe());
+    text.push(format!("--device {:?} selects: {}", device, backend.describe()));
+    let mut probe = serde_json::Value::Null;
     if let Backend::Gpu(g) = &backend {
         // Whatever auto chose: is the native build's division correctly rounded here? (Probed on
         // the loaded context when it holds the native build, else on a second one.)
@@ -255,9 +266,18 @@ fn info(device: DeviceChoice) -> Result<()> {
             let native = host::shaders::load_variant(host::shaders::DivSqrt::Native).map_err(anyhow::Error::msg)?;
             host::div_sqrt_probe::run(&host::gpu::GpuContext::new(&native)?)?
         };
-        match p.first {
-            None => println!("native build's OpFDiv/Sqrt on {}: correctly rounded on all {} probe rows", g.info.name, p.rows),
-            Some(first) => println!("native build's OpFDiv/Sqrt on {}: differ from correctly rounded on {} of {} probe rows, first: {first}", g.info.name, p.differing, p.rows),
+        text.push(match &p.first {
+            None => format!("native build's OpFDiv/Sqrt on {}: correctly rounded on all {} probe rows", g.info.name, p.rows),
+            Some(first) => format!("native build's OpFDiv/Sqrt on {}: differ from correctly rounded on {} of {} probe rows, first: {first}", g.info.name, p.differing, p.rows),
+        });
+        probe = serde_json::json!({"adapter": g.info.name, "rows": p.rows, "differing": p.differing, "first": p.first.as_ref().map(|f| f.to_string())});
+    }
+    if json {
+        let v = serde_json::json!({"adapters": list, "spirv": spirv, "device": format!("{device:?}").to_lowercase(), "backend": backend.describe(), "native_div_sqrt": probe});
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        for l in text {
+            println!("{l}");
         }
     }
     Ok(())

@@ -277,7 +277,7 @@ fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
 
 #[test]
 fn every_option_is_documented_and_help_matches_defaults() {
-    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["ssr", "passes"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"]] {
+    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["ssr", "passes"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"], &["render"], &["eval"]] {
         let mut args = cmd.to_vec();
         args.push("--help");
         let o = host(&args, &[]);
@@ -522,4 +522,23 @@ fn eval_names_a_row_outside_the_domain() {
     let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "-o", out.to_str().unwrap(), "--device", "cpu", "--allow-nonfinite"], &[]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(std::fs::read_to_string(&out).unwrap().lines().nth(2).unwrap().ends_with(",NaN"));
+}
+
+/// `host info --json`: the facts of the text as one JSON object.
+#[test]
+fn info_json_has_the_adapters_and_the_backend() {
+    let t = host(&["info"], &[]);
+    assert!(t.status.success(), "{}", text(&t));
+    let o = host(&["info", "--json"], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("info --json prints JSON");
+    let adapters = v["adapters"].as_array().unwrap();
+    let out = String::from_utf8_lossy(&t.stdout);
+    assert!(out.starts_with(&format!("Vulkan adapters: {}", adapters.len())), "{out}");
+    for a in adapters {
+        assert!(out.contains(a["name"].as_str().unwrap()), "{out}");
+    }
+    assert!(out.contains(&format!("selects: {}", v["backend"].as_str().unwrap())), "{out}");
+    assert_eq!(v["spirv"]["usable"], true, "{v}");
+    assert_eq!(v["device"], "auto");
 }

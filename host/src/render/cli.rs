@@ -144,11 +144,11 @@ pub struct RenderCommand {
     /// cameras only.
     #[arg(long)]
     pub gbuffer: Option<PathBuf>,
-    /// --gbuffer: reference samples per glossy pixel (each a path-traced reflected ray); 0 = no
+    /// With --gbuffer: reference samples per glossy pixel (each a path-traced reflected ray); 0 = no
     /// reference.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
     pub reference_spp: u32,
-    /// --gbuffer: pixels with perceptual roughness <= this get reference values (match
+    /// With --gbuffer: pixels with perceptual roughness <= this get reference values (match
     /// `host ssr --min-smoothness` = 1 - this; the default 0.6 matches its default 0.4).
     #[arg(long, default_value_t = 0.6, value_parser = crate::cli_args::f32_in(0.0, 1.0))]
     pub max_roughness: f32,
