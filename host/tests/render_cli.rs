@@ -97,16 +97,13 @@ fn bad_options_are_named() {
     assert!(!Path::new(o).exists(), "a failed render wrote its output");
 }
 
-/// The Cornell box in the repository (`scenes/`), for the tests that copy and edit it.
-const REPO_CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
-
 fn json_of(p: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).unwrap()
 }
 
 /// The repository's Cornell box copied into `dir` (with its buffer) as `name`.gltf after `edit`.
 fn cornell_copy(dir: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Value)) -> std::path::PathBuf {
-    let src = Path::new(REPO_CORNELL);
+    let src = Path::new(CORNELL);
     std::fs::copy(src.with_extension("bin"), dir.join("cornell_box.bin")).unwrap();
     let mut v = json_of(src);
     edit(&mut v);
@@ -121,7 +118,7 @@ fn cornell_copy(dir: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Value
 fn the_uniform_environment_notice_is_recorded_in_the_json() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("c.exr");
-    let a = host(&["render", REPO_CORNELL, "--device", "cpu", "--width", "8", "--height", "8", "--spp", "1", "--quiet", "-o", out.to_str().unwrap()]);
+    let a = host(&["render", CORNELL, "--device", "cpu", "--width", "8", "--height", "8", "--spp", "1", "--quiet", "-o", out.to_str().unwrap()]);
     assert!(a.status.success(), "{}", stderr(&a));
     let j = json_of(&out.with_extension("json"));
     let w = j["warnings"].as_array().unwrap();
@@ -185,7 +182,6 @@ fn output_paths_are_checked_before_rendering() {
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["-o", sub.to_str().unwrap()], "is a directory"),
         (vec!["-o", under_file.to_str().unwrap()], "cannot write"),
-        (vec!["-o", "/proc/host-render-test/r.exr"], "cannot write"),
         (vec!["-o", "x.jpg"], ".exr or .png"),
         (vec!["-o", g.to_str().unwrap(), "--gbuffer", g.to_str().unwrap()], "written twice"),
     ];
@@ -355,7 +351,7 @@ fn camera_overrides_steer_the_view() {
     let out = dir.path().join("v.exr");
     let o = out.to_str().unwrap();
     let render = |extra: &[&str]| {
-        let mut args = vec!["render", REPO_CORNELL, "--device", "cpu", "--width", "12", "--height", "12", "--spp", "1", "--quiet", "-o", o];
+        let mut args = vec!["render", CORNELL, "--device", "cpu", "--width", "12", "--height", "12", "--spp", "1", "--quiet", "-o", o];
         args.extend_from_slice(extra);
         let r = host(&args);
         (r.status.success(), stderr(&r), if r.status.success() { json_of(&out.with_extension("json"))["digest"].as_str().unwrap().to_string() } else { String::new() })
