@@ -620,7 +620,8 @@ impl PrecomputeArgs {
 /// Options of `host energy furnace`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct FurnaceArgs {
-    /// LUT from `host energy precompute` (.bin); computed with the defaults when omitted.
+    /// LUT from `host energy precompute` (.bin); when omitted, the default tables, computed once
+    /// and cached in the user cache directory (as `host render` and `host ssr` do).
     #[arg(long)]
     pub lut: Option<PathBuf>,
     /// Spheres per row (roughness k / (spheres - 1)).
@@ -768,7 +769,7 @@ fn run_furnace(a: &FurnaceArgs) -> Result<()> {
     crate::io::prepare_output(&a.output)?;
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
-    let tables = load_or_precompute(&backend, &a.lut)?;
+    let tables = tables_cached(&backend, &a.lut)?;
     let lut = tables.lut_buffer();
     let rows: Vec<(f32, Compensation)> = [1.0f32, 0.0].iter().flat_map(|&m| Compensation::ALL.map(|c| (m, c))).collect();
     let (w, h) = (a.spheres * a.size, a.size);

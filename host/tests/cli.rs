@@ -542,3 +542,26 @@ fn info_json_has_the_adapters_and_the_backend() {
     assert_eq!(v["spirv"]["usable"], true, "{v}");
     assert_eq!(v["device"], "auto");
 }
+
+/// `host energy furnace` and `host ssr` take the default energy tables from the user cache, as
+/// `host render` does: computed on the first run, read on every later one.
+#[test]
+fn furnace_and_ssr_reuse_the_cached_energy_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let env = [("XDG_CACHE_HOME", cache.to_str().unwrap())];
+    let f = dir.path().join("f.exr");
+    let furnace = ["energy", "furnace", "--device", "cpu", "--spheres", "2", "--size", "4", "--samples", "1", "-o", f.to_str().unwrap()];
+    let first = host(&furnace, &env);
+    assert!(first.status.success(), "{}", text(&first));
+    assert!(text(&first).contains("precomputing the default energy tables"), "{}", text(&first));
+    let cached: Vec<_> = std::fs::read_dir(cache.join("one-source-shading")).unwrap().collect();
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    let again = host(&furnace, &env);
+    assert!(again.status.success(), "{}", text(&again));
+    assert!(!text(&again).contains("precomputing"), "the furnace recomputed the tables: {}", text(&again));
+    let s = dir.path().join("s.exr");
+    let ssr = host(&["ssr", "--scene", "floor", "--width", "16", "--height", "16", "--device", "cpu", "--reference-samples", "0", "-o", s.to_str().unwrap()], &env);
+    assert!(ssr.status.success(), "{}", text(&ssr));
+    assert!(!text(&ssr).contains("precomputing"), "ssr recomputed the tables: {}", text(&ssr));
+}
