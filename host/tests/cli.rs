@@ -88,7 +88,17 @@ fn grid_writes_an_exr_a_user_can_open_and_pngs() {
     let g1 = img.channel("ggx_g1").unwrap();
     assert!(g1.iter().all(|v| (0.0..=1.0).contains(v)));
     for name in ["ggx_d", "ggx_lambda", "ggx_g1"] {
-        assert!(dir.path().join(format!("sub/ggx.{name}.png")).exists());
+        // the map (enlarged to the legend's width) above a legend strip with the colour bar
+        let png = image::open(dir.path().join(format!("sub/ggx.{name}.png"))).unwrap().to_rgb8();
+        let k = host::ssr::legend::scale(32);
+        let strip = host::ssr::legend::strip_height(32 * k);
+        assert_eq!(png.dimensions(), ((32 * k) as u32, (16 * k + strip) as u32), "{name}");
+        let mut legend: Vec<[u8; 3]> = (16 * k as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
+        legend.sort();
+        legend.dedup();
+        for c in [host::io::colormap(0.0), host::io::colormap(1.0), [0, 0, 0]] {
+            assert!(legend.contains(&c), "{name}: the legend lacks {c:?}");
+        }
     }
     let o = host(&["grid", "--alpha-min", "0"], &[]);
     assert!(!o.status.success());
