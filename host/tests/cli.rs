@@ -575,3 +575,26 @@ fn furnace_and_ssr_reuse_the_cached_energy_tables() {
     assert!(ssr.status.success(), "{}", text(&ssr));
     assert!(!text(&ssr).contains("precomputing"), "ssr recomputed the tables: {}", text(&ssr));
 }
+
+/// The furnace PNG labels its rows (material, compensation) and columns (roughness), and the
+/// environment around the spheres is coloured, so a white sphere (albedo 1) shows against it.
+#[test]
+fn furnace_png_is_labelled_and_shows_white_spheres() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("f.exr");
+    let o = host(&["energy", "furnace", "--device", "cpu", "--spheres", "3", "--size", "24", "--samples", "4", "-o", f.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let png = image::open(f.with_extension("png")).unwrap().to_rgb8();
+    let (w, h) = (3 * 24, 6 * 24);
+    assert!(png.width() > w && png.height() > h, "no room for labels: {:?}", png.dimensions());
+    let (left, top) = (png.width() - w, png.height() - h);
+    // the corner of the first sphere cell is environment, its centre the sphere (roughness 0
+    // metal with compensation: albedo about 1, white)
+    assert_eq!(png.get_pixel(left, top).0, host::energy::FURNACE_BACKGROUND);
+    let c = png.get_pixel(left + 12, top + 24 + 12).0;
+    assert!(c.iter().all(|&v| v > 240), "{c:?}");
+    // dark label text left of and above the image
+    let dark = |x0: u32, x1: u32, y0: u32, y1: u32| (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y))).filter(|&(x, y)| png.get_pixel(x, y).0.iter().all(|&v| v < 100)).count();
+    assert!(dark(0, left, top, png.height()) > 50, "no row labels");
+    assert!(dark(left, png.width(), 0, top) > 20, "no column labels");
+}

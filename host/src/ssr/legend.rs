@@ -45,7 +45,8 @@ pub fn strip_height(w: usize) -> usize {
     font_size(w) as usize * 5
 }
 
-fn register_font() {
+/// Make the legend's font ("ssr-legend", DejaVu Sans, embedded) available to plotters.
+pub fn register_font() {
     static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
