@@ -711,8 +711,17 @@ fn run_precompute(a: &PrecomputeArgs) -> Result<()> {
     let (w, h) = (t.n_mu as usize, t.n_r as usize);
     let png_e = a.output.with_extension("E.png");
     let png_ep = a.output.with_extension("E_prime.png");
-    crate::io::write_heatmap_png(&png_e, w, h, &t.e, 0.0, 1.0)?;
-    crate::io::write_heatmap_png(&png_ep, w, h, &t.e_prime, 0.0, 1.0)?;
+    // each table enlarged to the legend's width, with what it is, its axes and a colour bar
+    for (png, v, what) in [(&png_e, &t.e, "E (directional albedo)"), (&png_ep, &t.e_prime, "E' (Schlick split)")] {
+        use crate::ssr::legend;
+        let l = legend::Legend {
+            title: format!("{what}; x: mu 0..1, y: roughness 0 (top)..1 (bottom)"),
+            bar: Some((0.0, 1.0, legend::ticks(0.0, 1.0, 5))),
+            swatches: vec![(legend::NON_FINITE, "not finite".to_string())],
+        };
+        let px: Vec<[u8; 3]> = v.iter().map(|&x| legend::ramp(x, 0.0, 1.0)).collect();
+        legend::write_png(png, w, h, &px, &l)?;
+    }
     for p in [&a.output, &avg, &bin, &png_e, &png_ep] {
         eprintln!("wrote {}", p.display());
     }

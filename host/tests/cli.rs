@@ -598,3 +598,22 @@ fn furnace_png_is_labelled_and_shows_white_spheres() {
     assert!(dark(0, left, top, png.height()) > 50, "no row labels");
     assert!(dark(left, png.width(), 0, top) > 20, "no column labels");
 }
+
+/// `host energy precompute`'s table PNGs are enlarged to a readable size with a legend: the
+/// quantity, the axes and a colour bar.
+#[test]
+fn energy_table_pngs_have_a_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("t.exr");
+    let o = host(&["energy", "precompute", "--resolution", "8", "--samples", "64", "--avg-samples", "64", "--device", "cpu", "-o", exr.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    for name in ["t.E.png", "t.E_prime.png"] {
+        let png = image::open(dir.path().join(name)).unwrap().to_rgb8();
+        let k = host::ssr::legend::scale(8);
+        assert_eq!(png.dimensions(), ((8 * k) as u32, (8 * k + host::ssr::legend::strip_height(8 * k)) as u32), "{name}");
+        let strip: Vec<[u8; 3]> = ((8 * k) as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
+        for c in [host::io::colormap(0.0), host::io::colormap(1.0), [0, 0, 0]] {
+            assert!(strip.contains(&c), "{name}: the legend lacks {c:?}");
+        }
+    }
+}
