@@ -388,11 +388,6 @@ pub struct Outputs {
     pub json: PathBuf,
 }
 
-/// The outputs beside `exr`: (PNG, JSON).
-pub fn sidecars(exr: &Path) -> (PathBuf, PathBuf) {
-    (exr.with_extension("png"), exr.with_extension("json"))
-}
-
 impl RenderCommand {
     /// The output set of `-o`: `NAME.exr` or `NAME.png` both give `NAME.{exr,png,json}`.
     pub fn outputs(&self) -> Result<Outputs> {
@@ -402,7 +397,9 @@ impl RenderCommand {
         }
         let ext = o.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
         match ext.as_deref() {
-            Some("exr") | Some("png") => Ok(Outputs { exr: o.with_extension("exr"), png: o.with_extension("png"), json: o.with_extension("json") }),
+            // the name as given for its own kind (`X.EXR` stays `X.EXR`)
+            Some("exr") => Ok(Outputs { exr: o.clone(), png: o.with_extension("png"), json: o.with_extension("json") }),
+            Some("png") => Ok(Outputs { exr: o.with_extension("exr"), png: o.clone(), json: o.with_extension("json") }),
             _ => bail!(
                 "-o {}: give a name ending in .exr or .png; a render writes NAME.exr (linear), NAME.png (tone-mapped) and NAME.json (summary) together",
                 o.display()
