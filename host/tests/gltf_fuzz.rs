@@ -1,7 +1,8 @@
 //! Generated fuzz of the glTF loader: the repository's Cornell box with one to three of its JSON
-//! values (numbers, indices, strings, arrays, objects) replaced, removed or duplicated at
-//! random (most often a number moved a little: an index one off, a factor just outside its
-//! range), thousands of cases. Each is loaded with the scene loader; every one that loads is
+//! values (numbers, indices, strings, arrays, objects) replaced, removed or duplicated, or keys
+//! it does not use (strides, sparse storage, matrices, textures, ...) added, at random (most
+//! often a number moved a little: an index one off, a factor just outside its range), thousands
+//! of cases. Each is loaded with the scene loader; every one that loads is
 //! rendered at 8x8, 1 spp on the CPU backend. No case may panic, and no rendered image may hold
 //! a non-finite pixel: bad input gets a named error, good input a finite image.
 //!
@@ -75,14 +76,14 @@ fn value(rng: &mut Rng, old: &Value) -> Value {
     }
 }
 
-/// Mutate `doc` at one random place: replace a value, remove it, or duplicate an array's
-/// element. Returns what it did.
+/// Mutate `doc` at one random place: replace a value, remove it, duplicate an array's element,
+/// or add a key the box does not use to an object. Returns what it did.
 fn mutate(rng: &mut Rng, doc: &mut Value) -> String {
     let mut ptrs = Vec::new();
     pointers(doc, String::new(), &mut ptrs);
     let p = &ptrs[rng.below(ptrs.len())];
     let (parent, key) = p.rsplit_once('/').unwrap();
-    let op = rng.below(10);
+    let op = rng.below(12);
     let old = doc.pointer(p).cloned().unwrap_or(Value::Null);
     let Some(container) = doc.pointer_mut(parent) else { return format!("{p}: gone") };
     match (op, container) {
@@ -94,6 +95,27 @@ fn mutate(rng: &mut Rng, doc: &mut Value) -> String {
             let i: usize = key.parse().unwrap();
             a.remove(i);
             format!("{p}: removed")
+        }
+        // a key the box does not use, added to an object: strides, offsets, sparse storage,
+        // transforms, hierarchy, samplers, texture references
+        (2, Value::Object(m)) => {
+            const KEYS: &[&str] = &["byteStride", "byteOffset", "sparse", "matrix", "scale", "translation", "children", "normalized", "sampler", "baseColorTexture", "emissiveTexture", "alphaMode", "alphaCutoff", "doubleSided", "mode", "targets", "skin", "camera", "min", "max"];
+            let k = KEYS[rng.below(KEYS.len())];
+            let v = match k {
+                "sparse" => {
+                    let ty = [5121, 5123, 5125, 5126][rng.below(4)];
+                    json!({"count": rng.below(4), "indices": {"bufferView": rng.below(12), "componentType": ty}, "values": {"bufferView": rng.below(12)}})
+                }
+                "matrix" => {
+                    let w = [1.0, 0.0, 1e30][rng.below(3)];
+                    json!([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, w])
+                }
+                "baseColorTexture" | "emissiveTexture" => json!({"index": rng.below(2)}),
+                _ => value(rng, &Value::Null),
+            };
+            let d = format!("{parent}/{k}: added {v}");
+            m.insert(k.to_string(), v);
+            d
         }
         (1, Value::Array(a)) => {
             let i: usize = key.parse().unwrap();
