@@ -217,3 +217,76 @@ fn mutated_cornell_boxes_never_panic_nor_render_non_finite_pixels() {
     assert!(cases >= 1000, "only {cases} cases ran in {seconds} s");
     assert!(loaded > cases / 20 && loaded < cases, "{loaded} of {cases} loaded: the mutations are too mild or too harsh to test anything");
 }
+
+/// The Cornell box as a GLB (JSON chunk, BIN chunk) with bytes of its header and chunk headers
+/// (lengths, types, magic, version) and of its body overwritten at random: no panic, and every
+/// case that loads renders a finite image.
+#[test]
+fn corrupted_glb_containers_never_panic() {
+    let src = Path::new(CORNELL);
+    let mut doc: Value = serde_json::from_str(&std::fs::read_to_string(src).unwrap()).unwrap();
+    let bin = std::fs::read(src.with_extension("bin")).unwrap();
+    doc["buffers"] = json!([{"byteLength": bin.len()}]);
+    let mut text = serde_json::to_vec(&doc).unwrap();
+    while !text.len().is_multiple_of(4) {
+        text.push(b' ');
+    }
+    let mut padded = bin.clone();
+    while !padded.len().is_multiple_of(4) {
+        padded.push(0);
+    }
+    let total = 12 + 8 + text.len() + 8 + padded.len();
+    let mut glb = Vec::with_capacity(total);
+    glb.extend_from_slice(b"glTF");
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&(total as u32).to_le_bytes());
+    glb.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&text);
+    glb.extend_from_slice(&(padded.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"BIN\0");
+    glb.extend_from_slice(&padded);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("box.glb");
+    std::fs::write(&path, &glb).unwrap();
+    Scene::load(&path).unwrap_or_else(|e| panic!("the GLB box loads: {e:#}"));
+    let lut = vec![0.0f32; shader_core::energy::LUT_HEADER];
+    // the places a container's structure lives: file header, both chunk headers
+    let json_end = 20 + text.len();
+    let structural: Vec<usize> = (0..20).chain(json_end..json_end + 8).collect();
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let mut rng = Rng(7);
+    let (mut loaded, mut failures) = (0, Vec::new());
+    let cases = 2000;
+    for case in 0..cases {
+        let mut g = glb.clone();
+        let n = 1 + rng.below(3);
+        let mut what = Vec::new();
+        for _ in 0..n {
+            let at = if rng.below(3) > 0 { structural[rng.below(structural.len())] } else { rng.below(g.len()) };
+            let v = [0u8, 1, 0x7f, 0x80, 0xff, g[at] ^ 1, g[at].wrapping_add(4)][rng.below(7)];
+            what.push(format!("byte {at}: {:#04x} -> {v:#04x}", g[at]));
+            g[at] = v;
+        }
+        if rng.below(10) == 0 {
+            let cut = rng.below(g.len());
+            g.truncate(cut);
+            what.push(format!("cut at {cut}"));
+        }
+        std::fs::write(&path, &g).unwrap();
+        match catch_unwind(AssertUnwindSafe(|| Scene::load(&path).map(|s| tiny_render(&s, &lut)))) {
+            Err(p) => {
+                let msg = p.downcast_ref::<String>().cloned().or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string())).unwrap_or_default();
+                failures.push(format!("case {case}: panic ({msg}): {}", what.join("; ")));
+            }
+            Ok(Ok(Ok(bad))) if bad > 0 => failures.push(format!("case {case}: {bad} non-finite values: {}", what.join("; "))),
+            Ok(Ok(_)) => loaded += 1,
+            Ok(Err(_named)) => {}
+        }
+    }
+    std::panic::set_hook(hook);
+    println!("{cases} GLB cases: {loaded} loaded, {} failures", failures.len());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(loaded > 0 && loaded < cases, "{loaded} of {cases} loaded");
+}
