@@ -620,7 +620,8 @@ impl PrecomputeArgs {
 /// Options of `host energy furnace`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct FurnaceArgs {
-    /// LUT from `host energy precompute` (.bin); computed with the defaults when omitted.
+    /// LUT from `host energy precompute` (.bin); when omitted, the default tables, computed once
+    /// and cached in the user cache directory (as `host render` and `host ssr` do).
     #[arg(long)]
     pub lut: Option<PathBuf>,
     /// Spheres per row (roughness k / (spheres - 1)).
@@ -710,8 +711,17 @@ fn run_precompute(a: &PrecomputeArgs) -> Result<()> {
     let (w, h) = (t.n_mu as usize, t.n_r as usize);
     let png_e = a.output.with_extension("E.png");
     let png_ep = a.output.with_extension("E_prime.png");
-    crate::io::write_heatmap_png(&png_e, w, h, &t.e, 0.0, 1.0)?;
-    crate::io::write_heatmap_png(&png_ep, w, h, &t.e_prime, 0.0, 1.0)?;
+    // each table enlarged to the legend's width, with what it is, its axes and a colour bar
+    for (png, v, what) in [(&png_e, &t.e, "E (directional albedo)"), (&png_ep, &t.e_prime, "E' (Schlick split)")] {
+        use crate::ssr::legend;
+        let l = legend::Legend {
+            title: format!("{what}; x: mu 0..1, y: roughness 0 (top)..1 (bottom)"),
+            bar: Some((0.0, 1.0, legend::ticks(0.0, 1.0, 5))),
+            swatches: vec![(legend::NON_FINITE, "not finite".to_string())],
+        };
+        let px: Vec<[u8; 3]> = v.iter().map(|&x| legend::ramp(x, 0.0, 1.0)).collect();
+        legend::write_png(png, w, h, &px, &l)?;
+    }
     for p in [&a.output, &avg, &bin, &png_e, &png_ep] {
         eprintln!("wrote {}", p.display());
     }
@@ -768,7 +778,7 @@ fn run_furnace(a: &FurnaceArgs) -> Result<()> {
     crate::io::prepare_output(&a.output)?;
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
-    let tables = load_or_precompute(&backend, &a.lut)?;
+    let tables = tables_cached(&backend, &a.lut)?;
     let lut = tables.lut_buffer();
     let rows: Vec<(f32, Compensation)> = [1.0f32, 0.0].iter().flat_map(|&m| Compensation::ALL.map(|c| (m, c))).collect();
     let (w, h) = (a.spheres * a.size, a.size);
@@ -799,7 +809,8 @@ fn run_furnace(a: &FurnaceArgs) -> Result<()> {
     let height = h * rows.len() as u32;
     crate::io::write_exr(&a.output, w as usize, height as usize, &[("albedo", &albedo), ("mu", &mu)])?;
     let png = a.output.with_extension("png");
-    write_furnace_png(&png, w, height, &albedo)?;
+    let row_labels: Vec<String> = rows.iter().map(|(m, c)| format!("{} {}", if *m == 1.0 { "metal" } else { "dielectric" }, c.label())).collect();
+    write_furnace_png(&png, w, height, &albedo, &mu, &row_labels, a.spheres)?;
     let csv_path = a.output.with_extension("csv");
     let md_path = a.output.with_extension("md");
     crate::io::write_file(&csv_path, &csv)?;
@@ -818,25 +829,65 @@ fn run_furnace(a: &FurnaceArgs) -> Result<()> {
     Ok(())
 }
 
-/// Grey-scale PNG of furnace albedo (1 = white, the environment), values above 1 tinted red.
-pub fn write_furnace_png(path: &Path, w: u32, h: u32, albedo: &[f32]) -> Result<()> {
-    let mut img = image::RgbImage::new(w, h);
-    for (i, p) in img.pixels_mut().enumerate() {
-        let v = albedo[i];
-        let enc = |x: f32| {
-            let x = x.clamp(0.0, 1.0);
-            let s = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
-            (s * 255.0).round() as u8
-        };
-        *p = if !v.is_finite() {
-            image::Rgb([255, 0, 255])
-        } else if v > 1.0 + 1e-3 {
-            image::Rgb([255, enc(2.0 - v), enc(2.0 - v)])
-        } else {
-            let g = enc(v);
-            image::Rgb([g, g, g])
-        };
+/// Colour of the environment around the furnace spheres in the PNG (its albedo is 1, white, which
+/// a white sphere would vanish against).
+pub const FURNACE_BACKGROUND: [u8; 3] = [40, 60, 90];
+
+/// Grey-scale PNG of furnace albedo (1 = white), values above 1 tinted red, non-finite magenta,
+/// the environment (`mu` = 0) [`FURNACE_BACKGROUND`]; each row of spheres labelled on the left
+/// (`row_labels`, top to bottom) and each column with its roughness on top.
+pub fn write_furnace_png(path: &Path, w: u32, h: u32, albedo: &[f32], mu: &[f32], row_labels: &[String], spheres: u32) -> Result<()> {
+    use plotters::prelude::*;
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    anyhow::ensure!(albedo.len() == (w * h) as usize && mu.len() == albedo.len(), "furnace image: {} values for {w}x{h}", albedo.len());
+    let fs = 13u32;
+    let left = row_labels.iter().map(|l| l.chars().count() as u32).max().unwrap_or(0) * fs * 6 / 10 + 12;
+    let top = 2 * fs;
+    let (tw, th) = (left + w, top + h);
+    let mut buf = vec![255u8; (tw * th * 3) as usize];
+    let enc = |x: f32| {
+        let x = x.clamp(0.0, 1.0);
+        let s = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+        (s * 255.0).round() as u8
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            let v = albedo[i];
+            let c = if !v.is_finite() {
+                [255, 0, 255]
+            } else if mu[i] == 0.0 {
+                FURNACE_BACKGROUND
+            } else if v > 1.0 + 1e-3 {
+                [255, enc(2.0 - v), enc(2.0 - v)]
+            } else {
+                let g = enc(v);
+                [g, g, g]
+            };
+            let o = (((top + y) * tw + left + x) * 3) as usize;
+            buf[o..o + 3].copy_from_slice(&c);
+        }
     }
+    crate::ssr::legend::register_font();
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (tw, th)).into_drawing_area();
+        let text = |p: Pos| ("ssr-legend", fs).into_font().color(&BLACK).pos(p);
+        let err = |e: DrawingAreaErrorKind<_>| anyhow::anyhow!("drawing the furnace labels: {e}");
+        let rows = row_labels.len().max(1) as u32;
+        let row_h = h / rows;
+        for (k, l) in row_labels.iter().enumerate() {
+            let y = (top + row_h * k as u32 + row_h / 2) as i32;
+            root.draw(&Text::new(l.clone(), (4, y), text(Pos::new(HPos::Left, VPos::Center)))).map_err(err)?;
+        }
+        let cell = w / spheres.max(1);
+        for k in 0..spheres {
+            let r = if spheres > 1 { k as f32 / (spheres - 1) as f32 } else { 0.0 };
+            let x = (left + cell * k + cell / 2) as i32;
+            root.draw(&Text::new(format!("r={r:.2}"), (x, (fs / 2) as i32), text(Pos::new(HPos::Center, VPos::Top)))).map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    let img = image::RgbImage::from_raw(tw, th, buf).ok_or_else(|| anyhow::anyhow!("furnace image buffer size"))?;
     crate::io::write_png(path, &img)
 }
 

@@ -9,6 +9,10 @@
 //! (rows, inputs) with dtype `<f4` (or `<f8`, rounded to the nearest f32), columns in the order
 //! `host eval --list` gives; the output `.npy` holds the outputs only, shape (rows, outputs),
 //! dtype `<f4`.
+//!
+//! Any other extension (`.npz`, `.txt`, ...) is refused for input and output, rather than read
+//! or written as CSV under a name that says otherwise. Errors number the data rows from 1 in
+//! both formats (the CSV header is not counted).
 
 use crate::backend::Backend;
 use crate::timing::Timing;
@@ -75,17 +79,20 @@ pub enum Format {
 }
 
 impl Format {
-    /// `.npy` is NumPy; anything else (or standard input/output) is CSV.
-    pub fn of(path: &Path) -> Format {
-        match path.extension().and_then(|e| e.to_str()) {
-            Some(e) if e.eq_ignore_ascii_case("npy") => Format::Npy,
-            _ => Format::Csv,
+    /// `.npy` is NumPy; `.csv`, no extension or standard input/output (`-`) is CSV; any other
+    /// extension is an error naming the two formats.
+    pub fn of(path: &Path) -> Result<Format> {
+        match path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).as_deref() {
+            Some("npy") => Ok(Format::Npy),
+            Some("csv") | None => Ok(Format::Csv),
+            Some(e) => bail!("{}: host eval reads and writes .csv (text) and .npy (NumPy, float32) tables only, not .{e}", path.display()),
         }
     }
 }
 
-/// Reject NaN and infinite inputs unless `allow_nonfinite`, naming the row and column.
-fn check_finite(f: &FunctionInfo, values: &[f32], allow_nonfinite: bool, first_row: usize) -> Result<()> {
+/// Reject NaN and infinite inputs unless `allow_nonfinite`, naming the row (data rows from 1)
+/// and column.
+fn check_finite(f: &FunctionInfo, values: &[f32], allow_nonfinite: bool) -> Result<()> {
     if allow_nonfinite {
         return Ok(());
     }
@@ -93,7 +100,7 @@ fn check_finite(f: &FunctionInfo, values: &[f32], allow_nonfinite: bool, first_r
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
         bail!(
             "row {}, column {}: {} is not finite (pass --allow-nonfinite to evaluate it anyway)",
-            i / ni + first_row,
+            i / ni + 1,
             f.inputs[i % ni],
             values[i]
         );
@@ -102,7 +109,7 @@ fn check_finite(f: &FunctionInfo, values: &[f32], allow_nonfinite: bool, first_r
 }
 
 /// Parse CSV text for `f`. NaN and infinite values are rejected unless `allow_nonfinite`.
-/// Rows are numbered as in a spreadsheet (the header is row 1).
+/// Errors number the data rows from 1 (the header is not counted), as for `.npy`.
 pub fn parse_csv(f: &FunctionInfo, mut reader: impl Read, allow_nonfinite: bool) -> Result<Table> {
     let mut text = String::new();
     reader.read_to_string(&mut text).context("reading the CSV (is it UTF-8 text?)")?;
@@ -149,15 +156,15 @@ pub fn parse_csv(f: &FunctionInfo, mut reader: impl Read, allow_nonfinite: bool)
         .try_for_each(|(r, (row, line))| -> Result<()> {
             let fields: Vec<&str> = line.trim_end_matches('\r').split(',').collect();
             if fields.len() != header.len() {
-                bail!("row {}: {} fields, the header has {}", r + 2, fields.len(), header.len());
+                bail!("row {}: {} fields, the header has {}", r + 1, fields.len(), header.len());
             }
             for ((slot, &i), col) in row.iter_mut().zip(&index).zip(f.inputs) {
                 let t = fields[i].trim();
-                *slot = t.parse().map_err(|_| anyhow!("row {}, column {col}: {t:?} is not a number", r + 2))?;
+                *slot = t.parse().map_err(|_| anyhow!("row {}, column {col}: {t:?} is not a number", r + 1))?;
             }
             Ok(())
         })?;
-    check_finite(f, &values, allow_nonfinite, 2)?;
+    check_finite(f, &values, allow_nonfinite)?;
     Ok(Table { rows: n_lines, values })
 }
 
@@ -205,7 +212,7 @@ pub fn parse_npy(f: &FunctionInfo, bytes: &[u8], allow_nonfinite: bool) -> Resul
     if cols != ni {
         bail!("the array has {cols} columns; {} needs {ni}: {}", f.name, f.inputs.join(","));
     }
-    check_finite(f, &npy.values, allow_nonfinite, 0)?;
+    check_finite(f, &npy.values, allow_nonfinite)?;
     Ok(Table { rows, values: npy.values })
 }
 
@@ -214,8 +221,9 @@ pub fn read_table(f: &FunctionInfo, path: &Path, allow_nonfinite: bool) -> Resul
     if path.as_os_str() == "-" {
         return parse_csv(f, std::io::stdin().lock(), allow_nonfinite).context("in standard input");
     }
+    let format = Format::of(path)?;
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    match Format::of(path) {
+    match format {
         Format::Npy => parse_npy(f, &bytes, allow_nonfinite),
         Format::Csv => parse_csv(f, bytes.as_slice(), allow_nonfinite),
     }
@@ -228,16 +236,41 @@ pub fn write_table(f: &FunctionInfo, table: &Table, outputs: &[f32], path: &Path
     if path.as_os_str() == "-" {
         return write_csv(f, table, outputs, std::io::stdout().lock());
     }
+    let format = Format::of(path)?;
     crate::io::write_atomic(path, |tmp| {
         let file = std::fs::File::create(tmp)?;
         let mut w = std::io::BufWriter::new(file);
-        match Format::of(path) {
+        match format {
             Format::Npy => crate::npy::write(&mut w, &[table.rows, f.outputs.len()], outputs)?,
             Format::Csv => write_csv(f, table, outputs, &mut w)?,
         }
         w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         Ok(())
     })
+}
+
+/// Refuse NaN outputs unless `allow_nonfinite`: the functions return NaN exactly for inputs
+/// outside their domain (a negative or NaN roughness, a zero vector, a cosine outside [-1, 1]:
+/// docs/microfacet.md, "invalid-input behaviour"), so the first such row is named with its
+/// inputs. Infinite outputs are results (some functions are exactly +inf at a bound).
+pub fn check_outputs(f: &FunctionInfo, table: &Table, outputs: &[f32], allow_nonfinite: bool) -> Result<()> {
+    if allow_nonfinite {
+        return Ok(());
+    }
+    let (ni, no) = (f.inputs.len(), f.outputs.len().max(1));
+    if let Some(i) = outputs.iter().position(|v| v.is_nan()) {
+        let r = i / no;
+        let inputs: Vec<String> = f.inputs.iter().zip(&table.values[r * ni..(r + 1) * ni]).map(|(c, v)| format!("{c} = {v}")).collect();
+        bail!(
+            "row {}: {} returns NaN for {} (inputs outside its domain; {} of {} rows so; pass --allow-nonfinite to write NaN rows)",
+            r + 1,
+            f.name,
+            inputs.join(", "),
+            outputs.chunks(no).filter(|row| row.iter().any(|v| v.is_nan())).count(),
+            table.rows
+        );
+    }
+    Ok(())
 }
 
 /// Evaluate `f` over `table` on `backend`.
@@ -259,9 +292,9 @@ mod tests {
         let e = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y,alhpa\n0,0,1,0.5,0.5,1\n".as_bytes(), false).unwrap_err();
         assert!(format!("{e:#}").contains("\"alhpa\" is not an input"), "{e:#}");
         let e = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,x,0.5\n".as_bytes(), false).unwrap_err();
-        assert!(format!("{e:#}").contains("row 2, column alpha_x"), "{e:#}");
+        assert!(format!("{e:#}").contains("row 1, column alpha_x"), "{e:#}");
         let e = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n0,0,NaN,0.5,0.5\n".as_bytes(), false).unwrap_err();
-        assert!(format!("{e:#}").contains("row 3, column wm_z"), "{e:#}");
+        assert!(format!("{e:#}").contains("row 2, column wm_z"), "{e:#}");
         assert!(parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,NaN,0.5,0.5\n".as_bytes(), true).is_ok());
         assert!(find_function("ggx").unwrap_err().to_string().contains("ggx_d"));
     }
@@ -272,13 +305,29 @@ mod tests {
         let e = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y,wm_x\n0,0,1,0.5,0.5,1\n".as_bytes(), false).unwrap_err();
         assert!(format!("{e:#}").contains("\"wm_x\" twice (columns 1 and 6)"), "{e:#}");
         let e = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5\n".as_bytes(), false).unwrap_err();
-        assert!(format!("{e:#}").contains("row 2: 4 fields, the header has 5"), "{e:#}");
+        assert!(format!("{e:#}").contains("row 1: 4 fields, the header has 5"), "{e:#}");
         let e = parse_csv(f, "".as_bytes(), false).unwrap_err();
         assert!(format!("{e:#}").contains("empty"), "{e:#}");
         let t = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n".as_bytes(), false).unwrap();
         assert_eq!(t.rows, 0);
         let e = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n\n0,0,1,0.5,0.5\n".as_bytes(), false).unwrap_err();
-        assert!(format!("{e:#}").contains("row 3"), "{e:#}");
+        assert!(format!("{e:#}").contains("row 2"), "{e:#}");
+    }
+
+    #[test]
+    fn csv_and_npy_number_data_rows_alike_and_other_formats_are_refused() {
+        let f = find_function("ggx_d").unwrap();
+        let e = parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n0,0,1,inf,0.5\n".as_bytes(), false).unwrap_err();
+        let mut bytes = Vec::new();
+        crate::npy::write(&mut bytes, &[2, 5], &[0.0, 0.0, 1.0, 0.5, 0.5, 0.0, 0.0, 1.0, f32::INFINITY, 0.5]).unwrap();
+        let n = parse_npy(f, &bytes, false).unwrap_err();
+        assert!(format!("{e:#}").contains("row 2, column alpha_x"), "{e:#}");
+        assert!(format!("{n:#}").contains("row 2, column alpha_x"), "{n:#}");
+        assert_eq!(Format::of(Path::new("a.CSV")).unwrap(), Format::Csv);
+        assert_eq!(Format::of(Path::new("a")).unwrap(), Format::Csv);
+        assert_eq!(Format::of(Path::new("a.npy")).unwrap(), Format::Npy);
+        let e = Format::of(Path::new("out.npz")).unwrap_err();
+        assert!(format!("{e:#}").contains("not .npz"), "{e:#}");
     }
 
     #[test]

@@ -94,7 +94,19 @@ pub fn write(out: &Path, spec: &GridSpec, results: &[GridResult]) -> Result<Vec<
             out.file_stem().unwrap_or_default().to_string_lossy(),
             r.name
         ));
-        crate::io::write_heatmap_png(&png, spec.width, spec.height, &data, lo, hi)?;
+        // the legend: what is shown, the axes and their ranges, the colour bar with its values
+        let what = match r.name {
+            "ggx_d" => "log10 D",
+            "ggx_lambda" => "log10(1 + Lambda)",
+            _ => "G1",
+        };
+        let legend = crate::ssr::legend::Legend {
+            title: format!("{what}; x: theta 0..90 deg, y: alpha_x {} (top)..{} (bottom), log", spec.alpha_max, spec.alpha_min),
+            bar: Some((lo, hi, crate::ssr::legend::ticks(lo, hi, 6))),
+            swatches: vec![([255, 0, 255], "not finite".to_string())],
+        };
+        let pixels: Vec<[u8; 3]> = data.iter().map(|&v| crate::ssr::legend::ramp(v, lo, hi)).collect();
+        crate::ssr::legend::write_png(&png, spec.width, spec.height, &pixels, &legend)?;
         pngs.push(png);
     }
     Ok(pngs)

@@ -30,6 +30,10 @@ enum Cmd {
         /// The choice whose backend to report: auto, cpu or gpu.
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
+        /// Print the same as one JSON object on standard output (adapters, spirv, backend,
+        /// native_div_sqrt).
+        #[arg(long)]
+        json: bool,
     },
     /// Evaluate one shading function over a table (`--list` shows every function and its columns).
     ///
@@ -40,7 +44,11 @@ enum Cmd {
     ///
     /// NumPy input/output, chosen by the `.npy` extension: input shape (rows, inputs) with the
     /// columns in `--list` order, dtype float32 (float64 is rounded to float32); the output
-    /// holds the outputs only, shape (rows, outputs), float32.
+    /// holds the outputs only, shape (rows, outputs), float32. Other extensions (`.npz`, ...)
+    /// are refused; a name without one is CSV.
+    ///
+    /// Errors name the row as data rows counted from 1 in both formats (the CSV header is not
+    /// counted), and the column.
     Eval {
         /// Function name, e.g. ggx_d.
         function: Option<String>,
@@ -60,7 +68,10 @@ enum Cmd {
         /// Backend: auto, cpu or gpu (see `host --help`).
         #[arg(long, value_enum, default_value = "auto")]
         device: DeviceChoice,
-        /// Accept NaN and infinite inputs (for stress testing) instead of rejecting them.
+        /// Accept NaN and infinite inputs, and write NaN outputs (for stress testing), instead of
+        /// rejecting them. Without it, a row whose output is NaN (every function returns NaN for
+        /// inputs outside its domain, such as a negative roughness: docs/microfacet.md) is an
+        /// error naming the row and its inputs.
         #[arg(long)]
         allow_nonfinite: bool,
     },
@@ -93,6 +104,22 @@ enum Cmd {
         device: DeviceChoice,
     },
     /// Path-trace a glTF scene (or the built-in Cornell box) on the CPU or a GPU: EXR + PNG + JSON.
+    ///
+    /// Without SCENE, renders the built-in Cornell box: an area light, a front row of gold metal
+    /// spheres and a back row of blue plastic spheres with roughness 0 to 1. Writes a linear EXR
+    /// (R, G, B plus albedo.*, normal.* and depth.Z first-hit AOVs, each the mean over the pixel's
+    /// samples), a tone-mapped PNG and a JSON summary (settings, scene, times, rays/s, image
+    /// digest, warnings). The same seed and settings give a bit-identical image on every backend.
+    /// A glTF file that breaks a bound of the specification is refused, naming the JSON path.
+    ///
+    /// Limits: width and height 1..=16384 with at most 2^26 pixels, --spp 1..=1000000,
+    /// --exposure within [-64, 64].
+    ///
+    /// Ctrl-C (SIGINT) finishes the launch under way and writes the samples so far (every pixel
+    /// holds the same number of samples; the JSON says `"interrupted": true` and
+    /// `samples_per_pixel`), then exits with status 130; a second Ctrl-C aborts at once without
+    /// writing. When stderr is not a terminal (a log, CI), a progress line is printed every
+    /// --progress-every seconds instead of the bar.
     Render(host::render::cli::RenderCommand),
     /// Screen-space reflections (HDRP or stochastic SSR) on a built-in scene or an EXR G-buffer.
     ///
@@ -122,7 +149,7 @@ fn main() {
 
 fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
     match cli.cmd {
-        Cmd::Info { device } => info(device),
+        Cmd::Info { device, json } => info(device, json),
         Cmd::Bench(b) => b.run(),
         Cmd::Energy(e) => e.run(),
         Cmd::Eval { function, list, json, input, output, device, allow_nonfinite } => {
@@ -139,6 +166,7 @@ fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
             let input = input.context("--input is required (a .csv or .npy file, or - for CSV on standard input)")?;
             let output = output.filter(|p| p.as_os_str() != "-");
             if let Some(p) = &output {
+                host::eval::Format::of(p)?;
                 host::io::prepare_output(p)?;
             }
             let t0 = std::time::Instant::now();
@@ -147,6 +175,7 @@ fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
             let backend = Backend::select(device)?;
             eprintln!("{}", backend.describe());
             let (out, t) = host::eval::run(&backend, f, &table)?;
+            host::eval::check_outputs(f, &table, &out, allow_nonfinite)?;
             let t1 = std::time::Instant::now();
             match &output {
                 Some(p) => {
@@ -196,40 +225,47 @@ fn run(cli: Cli, ssr_given: &dyn Fn(&str) -> bool) -> Result<()> {
     }
 }
 
-fn info(device: DeviceChoice) -> Result<()> {
+fn info(device: DeviceChoice, json: bool) -> Result<()> {
     host::gpu::ensure_xdg_runtime_dir();
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
     desc.backends = wgpu::Backends::VULKAN;
     let instance = wgpu::Instance::new(desc);
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
-    println!("Vulkan adapters: {}", adapters.len());
+    // the text lines, and the same facts as JSON
+    let mut text = vec![format!("Vulkan adapters: {}", adapters.len())];
+    let mut list = Vec::new();
     for a in &adapters {
         let i = a.get_info();
-        println!("  {} ({:?}, driver {} {})", i.name, i.device_type, i.driver, i.driver_info);
-        println!("    {}", host::float_controls::describe_adapter(a));
+        let float = host::float_controls::describe_adapter(a);
+        text.push(format!("  {} ({:?}, driver {} {})", i.name, i.device_type, i.driver, i.driver_info));
+        text.push(format!("    {float}"));
+        list.push(serde_json::json!({"name": i.name, "device_type": format!("{:?}", i.device_type), "driver": i.driver, "driver_info": i.driver_info, "float_controls": float}));
     }
-    match host::shaders::load() {
-        Ok(m) => println!(
-            "SPIR-V: {} bytes, entry points {:?}, built with {} / spirv-builder {}, sources {} (fresh)",
-            m.manifest.spv_bytes,
-            m.manifest.entry_points,
-            m.manifest.toolchain,
-            m.manifest.spirv_builder,
-            m.manifest.source_hash
-        ),
-        Err(e) => println!("SPIR-V: unusable: {e}"),
-    }
+    let spirv = match host::shaders::load() {
+        Ok(m) => {
+            text.push(format!(
+                "SPIR-V: {} bytes, entry points {:?}, built with {} / spirv-builder {}, sources {} (fresh)",
+                m.manifest.spv_bytes, m.manifest.entry_points, m.manifest.toolchain, m.manifest.spirv_builder, m.manifest.source_hash
+            ));
+            serde_json::json!({"usable": true, "bytes": m.manifest.spv_bytes, "entry_points": m.manifest.entry_points, "toolchain": m.manifest.toolchain, "spirv_builder": m.manifest.spirv_builder, "source_hash": m.manifest.source_hash})
+        }
+        Err(e) => {
+            text.push(format!("SPIR-V: unusable: {e}"));
+            serde_json::json!({"usable": false, "error": e.to_string()})
+        }
+    };
     // What the exact build's division and square root cost, in SPIR-V instructions per call.
     let exact = host::shaders::load_variant(host::shaders::DivSqrt::Exact).map_err(anyhow::Error::msg)?;
-    let sizes: Vec<String> = shader_manifest::function_sizes(&exact.words)
+    let routines: Vec<(String, usize)> = shader_manifest::function_sizes(&exact.words)
         .map_err(anyhow::Error::msg)?
         .into_iter()
         .filter(|(n, _)| shader_manifest::is_kept_function_name(n))
-        .map(|(n, c)| format!("{} {c}", n.rsplit("::").next().unwrap_or(&n)))
         .collect();
-    println!("exact build's routines (SPIR-V instructions): {}", if sizes.is_empty() { "none named".to_string() } else { sizes.join(", ") });
+    let shown: Vec<String> = routines.iter().map(|(n, c)| format!("{} {c}", n.rsplit("::").next().unwrap_or(n))).collect();
+    text.push(format!("exact build's routines (SPIR-V instructions): {}", if shown.is_empty() { "none named".to_string() } else { shown.join(", ") }));
     let backend = Backend::select(device)?;
-    println!("--device {:?} selects: {}", device, backend.describe());
+    text.push(format!("--device {:?} selects: {}", device, backend.describe()));
+    let mut probe = serde_json::Value::Null;
     if let Backend::Gpu(g) = &backend {
         // Whatever auto chose: is the native build's division correctly rounded here? (Probed on
         // the loaded context when it holds the native build, else on a second one.)
@@ -239,9 +275,18 @@ fn info(device: DeviceChoice) -> Result<()> {
             let native = host::shaders::load_variant(host::shaders::DivSqrt::Native).map_err(anyhow::Error::msg)?;
             host::div_sqrt_probe::run(&host::gpu::GpuContext::new(&native)?)?
         };
-        match p.first {
-            None => println!("native build's OpFDiv/Sqrt on {}: correctly rounded on all {} probe rows", g.info.name, p.rows),
-            Some(first) => println!("native build's OpFDiv/Sqrt on {}: differ from correctly rounded on {} of {} probe rows, first: {first}", g.info.name, p.differing, p.rows),
+        text.push(match &p.first {
+            None => format!("native build's OpFDiv/Sqrt on {}: correctly rounded on all {} probe rows", g.info.name, p.rows),
+            Some(first) => format!("native build's OpFDiv/Sqrt on {}: differ from correctly rounded on {} of {} probe rows, first: {first}", g.info.name, p.differing, p.rows),
+        });
+        probe = serde_json::json!({"adapter": g.info.name, "rows": p.rows, "differing": p.differing, "first": p.first.as_ref().map(|f| f.to_string())});
+    }
+    if json {
+        let v = serde_json::json!({"adapters": list, "spirv": spirv, "exact_routines": routines, "device": format!("{device:?}").to_lowercase(), "backend": backend.describe(), "native_div_sqrt": probe});
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        for l in text {
+            println!("{l}");
         }
     }
     Ok(())

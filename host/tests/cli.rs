@@ -57,7 +57,8 @@ fn bad_csv_input_is_named_in_the_error() {
     std::fs::write(&input, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,inf,0.5,0.5\n").unwrap();
     let o = host(&["eval", "ggx_d", "-i", input.to_str().unwrap(), "--device", "cpu"], &[]);
     assert!(!o.status.success());
-    assert!(text(&o).contains("row 2, column wm_z"), "{}", text(&o));
+    // the first data row (the header is not counted)
+    assert!(text(&o).contains("row 1, column wm_z"), "{}", text(&o));
     let o = host(&["eval", "no_such_function", "-i", input.to_str().unwrap()], &[]);
     assert!(!o.status.success());
     assert!(text(&o).contains("unknown function"), "{}", text(&o));
@@ -87,7 +88,17 @@ fn grid_writes_an_exr_a_user_can_open_and_pngs() {
     let g1 = img.channel("ggx_g1").unwrap();
     assert!(g1.iter().all(|v| (0.0..=1.0).contains(v)));
     for name in ["ggx_d", "ggx_lambda", "ggx_g1"] {
-        assert!(dir.path().join(format!("sub/ggx.{name}.png")).exists());
+        // the map (enlarged to the legend's width) above a legend strip with the colour bar
+        let png = image::open(dir.path().join(format!("sub/ggx.{name}.png"))).unwrap().to_rgb8();
+        let k = host::ssr::legend::scale(32);
+        let strip = host::ssr::legend::strip_height(32 * k);
+        assert_eq!(png.dimensions(), ((32 * k) as u32, (16 * k + strip) as u32), "{name}");
+        let mut legend: Vec<[u8; 3]> = (16 * k as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
+        legend.sort();
+        legend.dedup();
+        for c in [host::io::colormap(0.0), host::io::colormap(1.0), [0, 0, 0]] {
+            assert!(legend.contains(&c), "{name}: the legend lacks {c:?}");
+        }
     }
     let o = host(&["grid", "--alpha-min", "0"], &[]);
     assert!(!o.status.success());
@@ -276,7 +287,7 @@ fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
 
 #[test]
 fn every_option_is_documented_and_help_matches_defaults() {
-    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["ssr", "passes"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"]] {
+    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["ssr", "passes"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"], &["render"], &["eval"]] {
         let mut args = cmd.to_vec();
         args.push("--help");
         let o = host(&args, &[]);
@@ -461,4 +472,148 @@ fn ssr_passes_times_every_backend_and_compares_their_bits() {
     fails_with(&["ssr", "passes", "--config", "--scene floor --pipeline sssr --resolve 3x3", w, h, "--devices", "cpu"], &["--resolve", "--pipeline hdrp"]);
     fails_with(&["ssr", "passes", "--config", "--scene floor --thickness=-1", w, h, "--devices", "cpu"], &["--thickness", "[0, 1]"]);
     fails_with(&["ssr", "passes", "--rounds", "0"], &["--rounds"]);
+}
+
+/// `-o out.npz` is refused before any work (only .csv and .npy are written), and CSV and .npy
+/// inputs name a bad row the same way: data rows from 1, the header not counted.
+#[test]
+fn eval_refuses_other_formats_and_numbers_rows_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(&csv, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n0,0,1,inf,0.5\n").unwrap();
+    let npz = dir.path().join("out.npz");
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "-o", npz.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("not .npz") && text(&o).contains(".npy"), "{}", text(&o));
+    assert!(!npz.exists(), "a .npz was written");
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("row 2, column alpha_x"), "{}", text(&o));
+    let mut npy = Vec::new();
+    host::npy::write(&mut npy, &[2, 5], &[0.0, 0.0, 1.0, 0.5, 0.5, 0.0, 0.0, 1.0, f32::INFINITY, 0.5]).unwrap();
+    let p = dir.path().join("in.npy");
+    std::fs::write(&p, npy).unwrap();
+    let o = host(&["eval", "ggx_d", "-i", p.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("row 2, column alpha_x"), "{}", text(&o));
+    let help = host(&["eval", "--help"], &[]);
+    assert!(text(&help).contains("data rows counted from 1"), "{}", text(&help));
+}
+
+/// `host ssr --input` given a render (not a G-buffer) names the missing channels, not the
+/// render's JSON summary as a bad camera file.
+#[test]
+fn ssr_input_that_is_a_render_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = dir.path().join("render.exr");
+    let o = host(&["render", "--device", "cpu", "--detail", "4", "--width", "8", "--height", "8", "--spp", "1", "--quiet", "-o", r.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let s = dir.path().join("s.exr");
+    let o = host(&["ssr", "--input", r.to_str().unwrap(), "--device", "cpu", "-o", s.to_str().unwrap()], &[]);
+    assert!(!o.status.success());
+    let t = text(&o);
+    assert!(t.contains("is not a G-buffer") && t.contains("roughness") && t.contains("--gbuffer"), "{t}");
+    assert!(!t.contains("camera file"), "{t}");
+}
+
+/// An input outside the function's domain (alpha_x = -0.5 for ggx_d, for which every function
+/// returns NaN) is an error naming the row and its inputs, not a NaN row with status 0;
+/// --allow-nonfinite writes the NaN row.
+#[test]
+fn eval_names_a_row_outside_the_domain() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(&csv, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n0,0,1,-0.5,0.5\n").unwrap();
+    let out = dir.path().join("out.csv");
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "-o", out.to_str().unwrap(), "--device", "cpu"], &[]);
+    assert!(!o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("row 2: ggx_d returns NaN") && text(&o).contains("alpha_x = -0.5") && text(&o).contains("1 of 2 rows"), "{}", text(&o));
+    assert!(!out.exists());
+    let o = host(&["eval", "ggx_d", "-i", csv.to_str().unwrap(), "-o", out.to_str().unwrap(), "--device", "cpu", "--allow-nonfinite"], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(std::fs::read_to_string(&out).unwrap().lines().nth(2).unwrap().ends_with(",NaN"));
+}
+
+/// `host info --json`: the facts of the text as one JSON object.
+#[test]
+fn info_json_has_the_adapters_and_the_backend() {
+    let t = host(&["info"], &[]);
+    assert!(t.status.success(), "{}", text(&t));
+    let o = host(&["info", "--json"], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("info --json prints JSON");
+    let adapters = v["adapters"].as_array().unwrap();
+    let out = String::from_utf8_lossy(&t.stdout);
+    assert!(out.starts_with(&format!("Vulkan adapters: {}", adapters.len())), "{out}");
+    for a in adapters {
+        assert!(out.contains(a["name"].as_str().unwrap()), "{out}");
+    }
+    assert!(out.contains(&format!("selects: {}", v["backend"].as_str().unwrap())), "{out}");
+    assert_eq!(v["spirv"]["usable"], true, "{v}");
+    assert_eq!(v["device"], "auto");
+}
+
+/// `host energy furnace` and `host ssr` take the default energy tables from the user cache, as
+/// `host render` does: computed on the first run, read on every later one.
+#[test]
+fn furnace_and_ssr_reuse_the_cached_energy_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let env = [("XDG_CACHE_HOME", cache.to_str().unwrap())];
+    let f = dir.path().join("f.exr");
+    let furnace = ["energy", "furnace", "--device", "cpu", "--spheres", "2", "--size", "4", "--samples", "1", "-o", f.to_str().unwrap()];
+    let first = host(&furnace, &env);
+    assert!(first.status.success(), "{}", text(&first));
+    assert!(text(&first).contains("precomputing the default energy tables"), "{}", text(&first));
+    let cached: Vec<_> = std::fs::read_dir(cache.join("one-source-shading")).unwrap().collect();
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    let again = host(&furnace, &env);
+    assert!(again.status.success(), "{}", text(&again));
+    assert!(!text(&again).contains("precomputing"), "the furnace recomputed the tables: {}", text(&again));
+    let s = dir.path().join("s.exr");
+    let ssr = host(&["ssr", "--scene", "floor", "--width", "16", "--height", "16", "--device", "cpu", "--reference-samples", "0", "-o", s.to_str().unwrap()], &env);
+    assert!(ssr.status.success(), "{}", text(&ssr));
+    assert!(!text(&ssr).contains("precomputing"), "ssr recomputed the tables: {}", text(&ssr));
+}
+
+/// The furnace PNG labels its rows (material, compensation) and columns (roughness), and the
+/// environment around the spheres is coloured, so a white sphere (albedo 1) shows against it.
+#[test]
+fn furnace_png_is_labelled_and_shows_white_spheres() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("f.exr");
+    let o = host(&["energy", "furnace", "--device", "cpu", "--spheres", "3", "--size", "24", "--samples", "4", "-o", f.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let png = image::open(f.with_extension("png")).unwrap().to_rgb8();
+    let (w, h) = (3 * 24, 6 * 24);
+    assert!(png.width() > w && png.height() > h, "no room for labels: {:?}", png.dimensions());
+    let (left, top) = (png.width() - w, png.height() - h);
+    // the corner of the first sphere cell is environment, its centre the sphere (roughness 0
+    // metal with compensation: albedo about 1, white)
+    assert_eq!(png.get_pixel(left, top).0, host::energy::FURNACE_BACKGROUND);
+    let c = png.get_pixel(left + 12, top + 24 + 12).0;
+    assert!(c.iter().all(|&v| v > 240), "{c:?}");
+    // dark label text left of and above the image
+    let dark = |x0: u32, x1: u32, y0: u32, y1: u32| (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y))).filter(|&(x, y)| png.get_pixel(x, y).0.iter().all(|&v| v < 100)).count();
+    assert!(dark(0, left, top, png.height()) > 50, "no row labels");
+    assert!(dark(left, png.width(), 0, top) > 20, "no column labels");
+}
+
+/// `host energy precompute`'s table PNGs are enlarged to a readable size with a legend: the
+/// quantity, the axes and a colour bar.
+#[test]
+fn energy_table_pngs_have_a_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("t.exr");
+    let o = host(&["energy", "precompute", "--resolution", "8", "--samples", "64", "--avg-samples", "64", "--device", "cpu", "-o", exr.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    for name in ["t.E.png", "t.E_prime.png"] {
+        let png = image::open(dir.path().join(name)).unwrap().to_rgb8();
+        let k = host::ssr::legend::scale(8);
+        assert_eq!(png.dimensions(), ((8 * k) as u32, (8 * k + host::ssr::legend::strip_height(8 * k)) as u32), "{name}");
+        let strip: Vec<[u8; 3]> = ((8 * k) as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
+        for c in [host::io::colormap(0.0), host::io::colormap(1.0), [0, 0, 0]] {
+            assert!(strip.contains(&c), "{name}: the legend lacks {c:?}");
+        }
+    }
 }

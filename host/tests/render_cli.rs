@@ -96,3 +96,286 @@ fn bad_options_are_named() {
     assert!(stderr(&r).contains("none.gltf"), "{}", stderr(&r));
     assert!(!Path::new(o).exists(), "a failed render wrote its output");
 }
+
+fn json_of(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).unwrap()
+}
+
+/// The repository's Cornell box copied into `dir` (with its buffer) as `name`.gltf after `edit`.
+fn cornell_copy(dir: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Value)) -> std::path::PathBuf {
+    let src = Path::new(CORNELL);
+    std::fs::copy(src.with_extension("bin"), dir.join("cornell_box.bin")).unwrap();
+    let mut v = json_of(src);
+    edit(&mut v);
+    let p = dir.join(format!("{name}.gltf"));
+    std::fs::write(&p, serde_json::to_string(&v).unwrap()).unwrap();
+    p
+}
+
+/// A scene without lights is lit by a uniform environment: the notice is in render.json's
+/// `warnings` too, not only on the terminal.
+#[test]
+fn the_uniform_environment_notice_is_recorded_in_the_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.exr");
+    let a = host(&["render", CORNELL, "--device", "cpu", "--width", "8", "--height", "8", "--spp", "1", "--quiet", "-o", out.to_str().unwrap()]);
+    assert!(a.status.success(), "{}", stderr(&a));
+    let j = json_of(&out.with_extension("json"));
+    let w = j["warnings"].as_array().unwrap();
+    assert!(w.iter().any(|w| w.as_str().unwrap().contains("no lights") && w.as_str().unwrap().contains("uniform environment")), "{j}");
+    assert_eq!(j["interrupted"], false);
+    assert_eq!(j["samples_per_pixel"], 1);
+}
+
+/// Overflow on the way to a pixel: `--exposure 200` is refused before rendering; an emitter of
+/// radiance 1e30 (emissiveStrength 1e30, a legal value) renders a white, not black, PNG.
+#[test]
+fn exposure_and_emission_overflow_do_not_give_a_black_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("e.exr");
+    let o = out.to_str().unwrap();
+    let r = host(&["render", "--device", "cpu", "--detail", "4", "--width", "8", "--height", "8", "--spp", "1", "--exposure", "200", "-o", o]);
+    assert!(!r.status.success());
+    assert!(stderr(&r).contains("--exposure 200") && !stderr(&r).contains("rendered"), "{}", stderr(&r));
+    let hot = cornell_copy(dir.path(), "hot", |v| {
+        v["extensionsUsed"] = serde_json::json!(["KHR_materials_emissive_strength"]);
+        let m = &mut v["materials"][0];
+        m["emissiveFactor"] = serde_json::json!([1.0, 1.0, 1.0]);
+        m["extensions"] = serde_json::json!({"KHR_materials_emissive_strength": {"emissiveStrength": 1e30}});
+    });
+    let r = host(&["render", hot.to_str().unwrap(), "--device", "cpu", "--width", "8", "--height", "8", "--spp", "1", "--quiet", "-o", o]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let png = image::open(out.with_extension("png")).unwrap().to_rgb8();
+    let lit = png.pixels().filter(|p| p.0 == [255, 255, 255]).count();
+    assert!(lit > 0, "no white pixel in the PNG of a 1e30 emitter: {:?}", png.pixels().take(8).collect::<Vec<_>>());
+    assert_eq!(json_of(&out.with_extension("json"))["nonfinite_pixels"], 0);
+    // radiance near f32::MAX: warned before rendering; the render names its non-finite pixels
+    let hotter = cornell_copy(dir.path(), "hotter", |v| {
+        v["extensionsUsed"] = serde_json::json!(["KHR_materials_emissive_strength"]);
+        let m = &mut v["materials"][0];
+        m["emissiveFactor"] = serde_json::json!([1.0, 1.0, 1.0]);
+        m["extensions"] = serde_json::json!({"KHR_materials_emissive_strength": {"emissiveStrength": 3e38}});
+    });
+    let r = host(&["render", hotter.to_str().unwrap(), "--device", "cpu", "--width", "8", "--height", "8", "--spp", "4", "--quiet", "-o", o]);
+    let e = stderr(&r);
+    let warned = e.find("warning: material 'white': emitted radiance 3e38 times 4 samples per pixel").unwrap_or_else(|| panic!("no overflow warning: {e}"));
+    assert!(warned < e.find("rendered").unwrap(), "the warning came after the render: {e}");
+    let j = json_of(&out.with_extension("json"));
+    assert!(j["warnings"].as_array().unwrap().iter().any(|w| w.as_str().unwrap().contains("may overflow")), "{j}");
+    // and the sums do overflow: named, the files written for inspection, status 1
+    assert!(j["nonfinite_pixels"].as_u64().unwrap() > 0, "{j}");
+    assert!(!r.status.success() && e.contains("pixels are not finite") && e.contains("wrote"), "{e}");
+}
+
+/// Every output is checked before any rendering: a directory as -o, an unwritable location, a
+/// name that is neither .exr nor .png, -o and --gbuffer naming the same file.
+#[test]
+fn output_paths_are_checked_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("adir");
+    std::fs::create_dir(&sub).unwrap();
+    let base = ["render", "--device", "cpu", "--detail", "4", "--width", "8", "--height", "8", "--spp", "1", "--quiet"];
+    let file = dir.path().join("f.txt");
+    std::fs::write(&file, "x").unwrap();
+    let under_file = file.join("r.exr");
+    let g = dir.path().join("same.exr");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["-o", sub.to_str().unwrap()], "is a directory"),
+        (vec!["-o", under_file.to_str().unwrap()], "cannot write"),
+        (vec!["-o", "x.jpg"], ".exr or .png"),
+        (vec!["-o", g.to_str().unwrap(), "--gbuffer", g.to_str().unwrap()], "written twice"),
+    ];
+    for (extra, want) in cases {
+        let mut args = base.to_vec();
+        args.extend(&extra);
+        let r = host(&args);
+        assert!(!r.status.success(), "{extra:?} was accepted");
+        let e = stderr(&r);
+        assert!(e.contains(want), "{extra:?}: {e}");
+        assert!(!e.contains("rendered") && !e.contains("scene:"), "{extra:?}: the error came after the work: {e}");
+    }
+}
+
+/// `-o x.png` writes the PNG there and the EXR as x.exr (the PNG no longer overwrites the EXR).
+#[test]
+fn a_png_output_name_writes_the_png_and_the_exr_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let r = host(&["render", "--device", "cpu", "--detail", "4", "--width", "8", "--height", "6", "--spp", "1", "--quiet", "-o", out.to_str().unwrap()]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let png = image::open(&out).expect("x.png is a PNG").to_rgb8();
+    assert_eq!(png.dimensions(), (8, 6));
+    let exr = host::io::read_exr(&out.with_extension("exr")).expect("x.exr is an EXR");
+    assert_eq!((exr.width, exr.height), (8, 6));
+    assert!(out.with_extension("json").exists());
+    let names: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(names.iter().all(|n| !n.starts_with(".tmp")), "temporaries left: {names:?}");
+}
+
+/// `--threads N` runs the CPU backend on N threads (recorded in the JSON); 0 threads and
+/// threads for the GPU backend are refused.
+#[test]
+fn threads_option_sets_the_cpu_backends_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t.exr");
+    let o = out.to_str().unwrap();
+    let args = ["render", "--device", "cpu", "--detail", "4", "--width", "8", "--height", "8", "--spp", "2", "--quiet", "-o", o];
+    let mut one = args.to_vec();
+    one.extend(["--threads", "1"]);
+    let r = host(&one);
+    assert!(r.status.success(), "{}", stderr(&r));
+    assert_eq!(json_of(&out.with_extension("json"))["threads"], 1);
+    let digest1 = json_of(&out.with_extension("json"))["digest"].clone();
+    let mut three = args.to_vec();
+    three.extend(["--threads", "3"]);
+    let r = host(&three);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let j = json_of(&out.with_extension("json"));
+    assert_eq!(j["threads"], 3);
+    assert_eq!(j["digest"], digest1, "the thread count changed the image");
+    let mut zero = args.to_vec();
+    zero.extend(["--threads", "0"]);
+    assert!(!host(&zero).status.success());
+    let help = host(&["render", "--help"]);
+    for needle in ["2^26 pixels", "--spp 1..=1000000", "Ctrl-C", "\"interrupted\": true", "--progress-every"] {
+        assert!(String::from_utf8_lossy(&help.stdout).contains(needle), "render --help does not say {needle}");
+    }
+    let r = host(&["render", "--device", "gpu", "--threads", "2", "--quiet", "-o", o]);
+    assert!(!r.status.success());
+    assert!(stderr(&r).contains("--threads"), "{}", stderr(&r));
+}
+
+/// Spawn `host render` (builtin scene, CPU, many spp) with stderr piped; returns the child and
+/// a channel of its stderr lines.
+fn spawn_render(out: &Path, size: &str, per_pass: &str) -> (std::process::Child, std::sync::mpsc::Receiver<String>) {
+    use std::io::BufRead;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_host"))
+        .args(["render", "--device", "cpu", "--detail", "4", "--width", size, "--height", size, "--spp", "1000000", "--spp-per-pass", per_pass, "--progress-every", "0", "-o", out.to_str().unwrap()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawning host");
+    let err = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(err).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    (child, rx)
+}
+
+fn sigint(child: &std::process::Child) {
+    let ok = Command::new("kill").args(["-INT", &child.id().to_string()]).status().expect("running kill").success();
+    assert!(ok, "kill -INT failed");
+}
+
+/// Wait for `count` progress lines (the render is under way) and return the lines seen.
+fn wait_for_progress(rx: &std::sync::mpsc::Receiver<String>, count: usize) -> Vec<String> {
+    let mut seen = Vec::new();
+    loop {
+        let line = rx.recv_timeout(std::time::Duration::from_secs(120)).unwrap_or_else(|_| panic!("no progress line; stderr so far: {seen:?}"));
+        let progress = line.starts_with("rendering: ");
+        seen.push(line);
+        if progress && seen.iter().filter(|l| l.starts_with("rendering: ")).count() >= count {
+            return seen;
+        }
+    }
+}
+
+/// Ctrl-C finishes the launch under way and writes a valid EXR, PNG and JSON of the samples so
+/// far (`interrupted`, `samples_per_pixel`), exit status 130; the image is the render of exactly
+/// that many samples. Without a terminal, progress lines say the samples done, the rate and the
+/// time left.
+#[test]
+fn ctrl_c_keeps_the_samples_so_far() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("i.exr");
+    let (mut child, rx) = spawn_render(&out, "32", "2");
+    let seen = wait_for_progress(&rx, 2);
+    sigint(&child);
+    let status = child.wait().unwrap();
+    let rest: Vec<String> = rx.iter().collect();
+    let all = [seen, rest].concat().join("\n");
+    assert_eq!(status.code(), Some(130), "{all}");
+    let line = all.lines().find(|l| l.starts_with("rendering: ")).unwrap();
+    assert!(line.contains("/1000000 spp") && line.contains("M samples/s") && line.contains("s left"), "{line}");
+    let j = json_of(&out.with_extension("json"));
+    assert_eq!(j["interrupted"], true, "{j}");
+    let n = j["samples_per_pixel"].as_u64().unwrap();
+    assert!((4..1_000_000).contains(&n) && n.is_multiple_of(2), "{j}");
+    assert!(all.contains(&format!("{n} of 1000000 samples per pixel")), "{all}");
+    let exr = host::io::read_exr(&out).unwrap();
+    assert!(exr.channel("R").unwrap().iter().all(|v| v.is_finite()));
+    image::open(out.with_extension("png")).expect("a valid PNG");
+    // the same render stopped at n samples on its own: the same image
+    let again = dir.path().join("n.exr");
+    let r = host(&["render", "--device", "cpu", "--detail", "4", "--width", "32", "--height", "32", "--spp", &n.to_string(), "--spp-per-pass", "2", "--quiet", "-o", again.to_str().unwrap()]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    assert_eq!(json_of(&again.with_extension("json"))["digest"], j["digest"], "the interrupted image is not the render of its samples");
+}
+
+/// A second Ctrl-C aborts without writing.
+#[test]
+fn a_second_ctrl_c_aborts_without_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.exr");
+    // launches of 256 spp at 64x64 (about a second each): the second press lands in the
+    // launch the first one lets finish
+    let (mut child, rx) = spawn_render(&out, "64", "256");
+    wait_for_progress(&rx, 1);
+    sigint(&child);
+    // the handler prints its notice on the first press; then press again
+    let t0 = std::time::Instant::now();
+    while !rx.recv_timeout(std::time::Duration::from_secs(60)).unwrap().contains("interrupted: finishing") {
+        assert!(t0.elapsed().as_secs() < 60);
+    }
+    sigint(&child);
+    let status = child.wait().unwrap();
+    let rest: Vec<String> = rx.iter().collect();
+    assert_eq!(status.code(), Some(130), "{rest:?}");
+    // had the launch ended between the two presses, the files would be written and the abort
+    // notice absent: the test fails then rather than passing on it
+    assert!(rest.iter().any(|l| l.contains("aborting, nothing written")), "{rest:?}");
+    for ext in ["exr", "png", "json"] {
+        assert!(!out.with_extension(ext).exists(), "{ext} written after the abort");
+    }
+}
+
+/// --look-from / --look-at / --up / --fov steer the camera: placed where the Cornell box's glTF
+/// camera is (eye (0, 1, 3.5) looking down -z) they give its image bit for bit, and another
+/// target or field of view another image; a camera looking at itself, an up along the view and
+/// a field of view out of range are named.
+#[test]
+fn camera_overrides_steer_the_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("v.exr");
+    let o = out.to_str().unwrap();
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", CORNELL, "--device", "cpu", "--width", "12", "--height", "12", "--spp", "1", "--quiet", "-o", o];
+        args.extend_from_slice(extra);
+        let r = host(&args);
+        (r.status.success(), stderr(&r), if r.status.success() { json_of(&out.with_extension("json"))["digest"].as_str().unwrap().to_string() } else { String::new() })
+    };
+    let (ok, e, plain) = render(&[]);
+    assert!(ok, "{e}");
+    let (ok, e, same) = render(&["--look-from", "0,1,3.5", "--look-at", "0,1,-5", "--up", "0,1,0"]);
+    assert!(ok, "{e}");
+    assert_eq!(same, plain, "the overrides at the glTF camera's own place changed the image");
+    let (ok, e, aside) = render(&["--look-at", "1,1,0"]);
+    assert!(ok, "{e}");
+    assert_ne!(aside, plain);
+    let (ok, e, narrow) = render(&["--fov", "20"]);
+    assert!(ok, "{e}");
+    assert_ne!(narrow, plain);
+    assert!(json_of(&out.with_extension("json"))["camera"].as_str().unwrap().contains("--fov 20"));
+    for (extra, want) in [
+        (&["--look-from", "0,1,3.5", "--look-at", "0,1,3.5"][..], "the camera is at that point"),
+        (&["--up", "0,0,1"][..], "parallel"),
+        (&["--fov", "180"][..], "--fov"),
+        (&["--look-at", "1,2"][..], "three numbers"),
+    ] {
+        let (ok, e, _) = render(extra);
+        assert!(!ok, "{extra:?} was accepted");
+        assert!(e.contains(want), "{extra:?}: {e}");
+    }
+}

@@ -759,3 +759,160 @@ fn bad_scenes_give_errors_naming_the_problem() {
     let e = load_err(&write_gltf(d, "junk", doc, &bin));
     assert!(e.contains("image 0") && e.contains("decode"), "{e}");
 }
+
+/// Rewrites the glTF JSON at `p` through `edit`.
+fn patch(p: &Path, edit: impl FnOnce(&mut Value)) {
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+    edit(&mut v);
+    std::fs::write(p, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+}
+
+/// A quad scene as written by `one_quad`, then edited.
+fn quad_with(d: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
+    let mut bin = Bin::default();
+    let doc = one_quad(&mut bin);
+    let p = write_gltf(d, name, doc, &bin);
+    patch(&p, edit);
+    p
+}
+
+/// A primitive whose POSITION accessor index is out of range is a named error, not a panic
+/// inside gltf-json's validation (which indexes the accessor list unchecked).
+#[test]
+fn a_position_accessor_out_of_range_is_named_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = quad_with(dir.path(), "pos99", |v| v["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(99));
+    let e = std::panic::catch_unwind(|| load_err(&p)).expect("loading panicked");
+    assert!(e.contains("meshes[0].primitives[0].attributes.POSITION") && e.contains("99") && e.contains("out of range"), "{e}");
+}
+
+/// Every bound of the specification the loader checks gives an error naming the JSON path.
+#[test]
+fn spec_bounds_are_refused_naming_the_json_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let light = |l: Value| {
+        move |v: &mut Value| {
+            v["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+            v["extensions"] = json!({"KHR_lights_punctual": {"lights": [l]}});
+            v["nodes"].as_array_mut().unwrap().push(json!({"extensions": {"KHR_lights_punctual": {"light": 0}}}));
+            v["scenes"][0]["nodes"] = json!([0, 1]);
+        }
+    };
+    let material = |m: Value| {
+        move |v: &mut Value| {
+            v["extensionsUsed"] = json!(["KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_materials_transmission"]);
+            v["materials"] = json!([m]);
+            v["meshes"][0]["primitives"][0]["material"] = json!(0);
+        }
+    };
+    let camera = |c: Value| {
+        move |v: &mut Value| {
+            v["cameras"] = json!([c]);
+            v["nodes"].as_array_mut().unwrap().push(json!({"camera": 0, "translation": [0, 0, 3]}));
+            v["scenes"][0]["nodes"] = json!([0, 1]);
+        }
+    };
+    type Edit = Box<dyn FnOnce(&mut Value)>;
+    let cases: Vec<(&str, Edit, &str)> = vec![
+        ("v1", Box::new(|v: &mut Value| v["asset"]["version"] = json!("1.0")), "asset.version"),
+        ("minv", Box::new(|v: &mut Value| v["asset"]["minVersion"] = json!("2.1")), "asset.minVersion"),
+        ("negpoint", Box::new(light(json!({"type": "point", "intensity": -5.0}))), "extensions.KHR_lights_punctual.lights[0].intensity"),
+        ("range0", Box::new(light(json!({"type": "point", "range": 0.0}))), "lights[0].range"),
+        ("cones", Box::new(light(json!({"type": "spot", "spot": {"innerConeAngle": 0.6, "outerConeAngle": 0.5}}))), "lights[0].spot.innerConeAngle"),
+        ("wide", Box::new(light(json!({"type": "spot", "spot": {"outerConeAngle": 2.0}}))), "lights[0].spot.outerConeAngle"),
+        ("colour", Box::new(light(json!({"type": "directional", "color": [2.0, 1.0, 1.0]}))), "lights[0].color[0]"),
+        (
+            "negstrength",
+            Box::new(material(json!({"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": -3.0}}}))),
+            "materials[0].extensions.KHR_materials_emissive_strength.emissiveStrength",
+        ),
+        ("emissive", Box::new(material(json!({"emissiveFactor": [1e30, 1, 1]}))), "materials[0].emissiveFactor[0]"),
+        (
+            "overflow",
+            Box::new(material(json!({"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e39}}}))),
+            "emissiveStrength",
+        ),
+        ("base", Box::new(material(json!({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.5]}}))), "materials[0].pbrMetallicRoughness.baseColorFactor[3]"),
+        ("rough", Box::new(material(json!({"pbrMetallicRoughness": {"roughnessFactor": -0.1}}))), "materials[0].pbrMetallicRoughness.roughnessFactor"),
+        ("ior", Box::new(material(json!({"extensions": {"KHR_materials_ior": {"ior": 0.5}}}))), "materials[0].extensions.KHR_materials_ior.ior"),
+        ("trans", Box::new(material(json!({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 2.0}}}))), "transmissionFactor"),
+        ("yfov", Box::new(camera(json!({"type": "perspective", "perspective": {"yfov": 4.0, "znear": 0.1}}))), "cameras[0].perspective.yfov"),
+        ("znear", Box::new(camera(json!({"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.0}}))), "cameras[0].perspective.znear"),
+        ("xmag", Box::new(camera(json!({"type": "orthographic", "orthographic": {"xmag": 0.0, "ymag": 1.0, "znear": 0.0, "zfar": 10.0}}))), "cameras[0].orthographic.xmag"),
+        ("quat", Box::new(|v: &mut Value| v["nodes"][0]["rotation"] = json!([0.0, 0.0, 0.0, 2.0])), "nodes[0].rotation"),
+        ("both", Box::new(|v: &mut Value| {
+            v["nodes"][0]["matrix"] = json!([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);
+            v["nodes"][0]["scale"] = json!([1, 1, 1]);
+        }), "nodes[0].matrix"),
+        ("cycle", Box::new(|v: &mut Value| {
+            v["nodes"] = json!([{"mesh": 0, "children": [1]}, {"children": [2]}, {"children": [1]}]);
+        }), "nodes[2].children[0]"),
+        ("twoparents", Box::new(|v: &mut Value| {
+            v["nodes"] = json!([{"children": [2]}, {"children": [2]}, {"mesh": 0}]);
+            v["scenes"][0]["nodes"] = json!([0, 1]);
+        }), "nodes[1].children[0]"),
+        ("notroot", Box::new(|v: &mut Value| {
+            v["nodes"] = json!([{"children": [1]}, {"mesh": 0}]);
+            v["scenes"][0]["nodes"] = json!([0, 1]);
+        }), "scenes[0].nodes[1]"),
+    ];
+    for (name, edit, want) in cases {
+        let p = quad_with(d, name, edit);
+        let e = std::panic::catch_unwind(|| load_err(&p)).unwrap_or_else(|_| panic!("{name}: loading panicked"));
+        assert!(e.contains(want), "{name}: the error does not name {want}: {e}");
+    }
+    // within the bounds: loads
+    let p = quad_with(d, "ok", |v| {
+        light(json!({"type": "spot", "intensity": 0.0, "range": 2.0, "spot": {"innerConeAngle": 0.0, "outerConeAngle": std::f32::consts::FRAC_PI_2}}))(v);
+        v["asset"]["version"] = json!("2.1");
+        v["asset"]["minVersion"] = json!("2.0");
+    });
+    Scene::load(&p).unwrap_or_else(|e| panic!("{e:#}"));
+}
+
+/// A GLB with a wrong magic says so (not a JSON parse error at line 1, column 1); a binary file
+/// with a .gltf name is named as neither JSON nor GLB.
+#[test]
+fn a_wrong_glb_magic_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("bad.glb");
+    let mut bytes = b"gLTF".to_vec();
+    bytes.extend_from_slice(&2u32.to_le_bytes());
+    bytes.extend_from_slice(&20u32.to_le_bytes());
+    bytes.extend_from_slice(&[0; 8]);
+    std::fs::write(&p, &bytes).unwrap();
+    let e = load_err(&p);
+    assert!(e.contains("not a GLB file") && e.contains("67 4c 54 46"), "{e}");
+    let q = dir.path().join("bin.gltf");
+    std::fs::write(&q, [0u8, 1, 2, 3, 4]).unwrap();
+    let e = load_err(&q);
+    assert!(e.contains("neither a glTF JSON document") && e.contains("00 01 02 03"), "{e}");
+}
+
+/// A scene whose meshes are only points and lines says that they are unsupported, not merely
+/// that there are no triangles.
+#[test]
+fn points_and_lines_only_scenes_say_they_are_unsupported() {
+    let dir = tempfile::tempdir().unwrap();
+    for (mode, name) in [(0, "Points"), (1, "Lines"), (3, "LineStrip")] {
+        let p = quad_with(dir.path(), &format!("m{mode}"), |v| v["meshes"][0]["primitives"][0]["mode"] = json!(mode));
+        let e = load_err(&p);
+        assert!(e.contains("points or lines") && e.contains(&format!("meshes[0].primitives[0].mode = {name}")) && e.contains("triangles"), "{e}");
+    }
+}
+
+/// A directional or spot light whose node transform is singular has no direction: an error,
+/// not a light pointing down -z.
+#[test]
+fn a_directed_light_under_a_singular_transform_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = quad_with(dir.path(), "sing", |v| {
+        v["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+        v["extensions"] = json!({"KHR_lights_punctual": {"lights": [{"type": "directional"}]}});
+        v["nodes"].as_array_mut().unwrap().push(json!({"scale": [0, 0, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}}));
+        v["scenes"][0]["nodes"] = json!([0, 1]);
+    });
+    let e = load_err(&p);
+    assert!(e.contains("no direction") && e.contains("nodes[1]"), "{e}");
+}

@@ -39,7 +39,8 @@ fn png(path: &Path) -> image::RgbImage {
 
 /// The colours that occur in the legend strip below a debug image.
 fn strip_colours(img: &image::RgbImage) -> Vec<[u8; 3]> {
-    let mut c: Vec<[u8; 3]> = (N as u32..img.height()).flat_map(|y| (0..img.width()).map(move |x| (x, y))).map(|(x, y)| img.get_pixel(x, y).0).collect();
+    let top = img.height() - strip_height(img.width() as usize) as u32;
+    let mut c: Vec<[u8; 3]> = (top..img.height()).flat_map(|y| (0..img.width()).map(move |x| (x, y))).map(|(x, y)| img.get_pixel(x, y).0).collect();
     c.sort();
     c.dedup();
     c
@@ -106,21 +107,27 @@ fn debug_images_have_legends_and_fixed_scales() {
     let (hit, steps) = (main.channel("hit").unwrap(), main.channel("steps").unwrap());
     for f in ["hit.png", "steps.png", "error.png"] {
         let img = png(&beside(&out, f));
-        assert_eq!(img.height() as usize, N + strip_height(N), "{f}: no legend strip");
-        assert!(img.width() as usize >= legend::MIN_WIDTH, "{f}");
+        // enlarged k times so the image spans the legend's width (no blank strip beside it)
+        let k = legend::scale(N);
+        assert!(k > 1 && N * k >= legend::MIN_WIDTH, "{f}");
+        assert_eq!((img.width() as usize, img.height() as usize), (N * k, N * k + strip_height(N * k)), "{f}: no legend strip");
         let c = strip_colours(&img);
         for want in [colormap(0.0), colormap(1.0), NO_VALUE] {
             assert!(c.contains(&want), "{f}: legend lacks {want:?}");
         }
     }
     let (hp, sp) = (png(&beside(&out, "hit.png")), png(&beside(&out, "steps.png")));
+    let k = legend::scale(N) as u32;
     let max_steps = steps.iter().cloned().fold(0.0f32, f32::max);
     assert!(max_steps < 200.0, "no ray should need 200 iterations at 64x64: {max_steps}");
     for i in 0..N * N {
         let (x, y) = ((i % N) as u32, (i / N) as u32);
         let (want_h, want_s) = if hit[i] < 0.0 { (NO_VALUE, NO_VALUE) } else { (legend::ramp(hit[i], 0.0, 1.0), legend::ramp(steps[i], 0.0, 200.0)) };
-        assert_eq!(hp.get_pixel(x, y).0, want_h, "hit.png pixel {x},{y} (hit {})", hit[i]);
-        assert_eq!(sp.get_pixel(x, y).0, want_s, "steps.png pixel {x},{y} (steps {})", steps[i]);
+        // every pixel of the pixel's k x k block
+        for (dx, dy) in [(0, 0), (k - 1, 0), (0, k - 1), (k - 1, k - 1)] {
+            assert_eq!(hp.get_pixel(x * k + dx, y * k + dy).0, want_h, "hit.png pixel {x},{y} (hit {})", hit[i]);
+            assert_eq!(sp.get_pixel(x * k + dx, y * k + dy).0, want_s, "steps.png pixel {x},{y} (steps {})", steps[i]);
+        }
     }
     let dir = tempfile::tempdir().unwrap();
     let (out, _) = ssr(dir.path(), &["--pipeline", "sssr", "--reference-samples", "0"]);

@@ -40,11 +40,14 @@ impl Strategy {
 /// (R, G, B plus albedo.*, normal.* and depth.Z first-hit AOVs, each the mean over the pixel's
 /// samples), a tone-mapped PNG beside it and a JSON summary (settings, scene, times, rays/s,
 /// image digest). The same seed and settings give a bit-identical image on every backend.
+/// (`host render --help` shows the doc of the `Render` command in `main.rs`: limits, Ctrl-C.)
 #[derive(clap::Args, Debug, Clone)]
 pub struct RenderCommand {
     /// A glTF 2.0 scene (.gltf with its buffers and images, or .glb); omitted: the built-in scene.
     pub scene: Option<PathBuf>,
-    /// Output EXR; the PNG (`.png`) and the JSON summary (`.json`) are written beside it.
+    /// Output: `NAME.exr` or `NAME.png`. Either way the render writes the set `NAME.exr` (linear),
+    /// `NAME.png` (tone-mapped) and `NAME.json` (summary), all checked before rendering and
+    /// renamed into place together once all are written; other extensions are refused.
     #[arg(long, short, default_value = "out/render.exr")]
     pub output: PathBuf,
     /// Image width in pixels.
@@ -74,7 +77,23 @@ pub struct RenderCommand {
     /// framing the scene from +z). The image's aspect ratio is used; yfov is kept.
     #[arg(long)]
     pub camera: Option<String>,
-    /// Exposure of the PNG in stops (the EXR is never scaled).
+    /// Camera override: the eye position x,y,z (world units). Alone, the chosen camera moves
+    /// there keeping its direction.
+    #[arg(long, value_parser = parse_vec3, allow_negative_numbers = true)]
+    pub look_from: Option<[f32; 3]>,
+    /// Camera override: the point x,y,z the camera looks at (from --look-from, else from the
+    /// chosen camera's position).
+    #[arg(long, value_parser = parse_vec3, allow_negative_numbers = true)]
+    pub look_at: Option<[f32; 3]>,
+    /// Camera override: the up direction x,y,z (default: the chosen camera's; not parallel to
+    /// the view direction).
+    #[arg(long, value_parser = parse_vec3, allow_negative_numbers = true)]
+    pub up: Option<[f32; 3]>,
+    /// Camera override: the vertical field of view in degrees, in (0, 180) (perspective cameras
+    /// only).
+    #[arg(long, value_parser = crate::cli_args::f32_in(1e-3, 179.9))]
+    pub fov: Option<f32>,
+    /// Exposure of the PNG in stops, within [-64, 64] (the EXR is never scaled).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
     /// Tone curve of the PNG: aces (Narkowicz's ACES fit), reinhard (x / (1 + x)) or clamp.
@@ -109,20 +128,27 @@ pub struct RenderCommand {
     /// Tessellation of the built-in scene's spheres (triangles grow as its square).
     #[arg(long, default_value_t = super::scene::DEFAULT_DETAIL, value_parser = clap::value_parser!(u32).range(3..=1024))]
     pub detail: u32,
-    /// No progress bar.
+    /// No progress bar or progress lines.
     #[arg(long)]
     pub quiet: bool,
+    /// Threads of the CPU backend (default: one per core). Refused when the GPU backend runs.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub threads: Option<u32>,
+    /// When stderr is not a terminal: seconds between progress lines (samples done, rate,
+    /// time left); 0 = a line after every launch.
+    #[arg(long, default_value_t = 5.0, value_parser = crate::cli_args::f32_in(0.0, 86400.0))]
+    pub progress_every: f32,
     /// Also write the SSR inputs of this view: the G-buffer EXR `host ssr --input` reads (with
     /// its camera JSON beside it) and the path-traced reference of the normalized glossy
     /// reflection (`<stem>.reference.exr`, all geometry and on-screen only). Perspective
     /// cameras only.
     #[arg(long)]
     pub gbuffer: Option<PathBuf>,
-    /// --gbuffer: reference samples per glossy pixel (each a path-traced reflected ray); 0 = no
+    /// With --gbuffer: reference samples per glossy pixel (each a path-traced reflected ray); 0 = no
     /// reference.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
     pub reference_spp: u32,
-    /// --gbuffer: pixels with perceptual roughness <= this get reference values (match
+    /// With --gbuffer: pixels with perceptual roughness <= this get reference values (match
     /// `host ssr --min-smoothness` = 1 - this; the default 0.6 matches its default 0.4).
     #[arg(long, default_value_t = 0.6, value_parser = crate::cli_args::f32_in(0.0, 1.0))]
     pub max_roughness: f32,
@@ -144,6 +170,9 @@ pub struct Prepared {
     pub env: environment::Environment,
     pub lut: Vec<f32>,
     pub p_env: f32,
+    /// What the render supplies or changes on its own (the uniform environment of a scene
+    /// without lights): printed as a notice and recorded in the JSON's `warnings`.
+    pub notices: Vec<String>,
 }
 
 impl RenderCommand {
@@ -155,6 +184,15 @@ impl RenderCommand {
         if !self.exposure.is_finite() {
             bail!("--exposure {}: must be finite", self.exposure);
         }
+        if self.exposure.abs() > super::EXPOSURE_LIMIT {
+            bail!(
+                "--exposure {}: at most {} stops either way (2^{} scales every pixel of any image to black or white, and overflows the tone curve's arithmetic)",
+                self.exposure,
+                super::EXPOSURE_LIMIT,
+                self.exposure
+            );
+        }
+        self.outputs()?;
         if !self.clamp.is_finite() || self.clamp < 0.0 {
             bail!("--clamp {}: must be finite and >= 0 (0 = off)", self.clamp);
         }
@@ -212,10 +250,14 @@ impl RenderCommand {
             eprintln!("warning: {w}");
         }
         let (camera, camera_label) = pick_camera(&scene, self.camera.as_deref())?;
+        let (camera, camera_label) = self.override_camera(camera, camera_label)?;
+        let mut notices = Vec::new();
         let spec = match &self.env {
             Some(e) => e.clone(),
             None if !scene.has_lights() => {
-                eprintln!("notice: the scene has no lights: lighting it with a uniform environment of radiance 1 (--env)");
+                let n = "the scene has no lights: lighting it with a uniform environment of radiance 1 (--env)".to_string();
+                eprintln!("notice: {n}");
+                notices.push(n);
                 EnvSpec::Uniform([1.0; 3])
             }
             None => EnvSpec::Black,
@@ -231,12 +273,90 @@ impl RenderCommand {
             (false, false) => 1.0,
             (false, true) => 0.5,
         };
+        if let Some(w) = overflow_risk(&scene, &env, self.spp) {
+            eprintln!("warning: {w}");
+            notices.push(w);
+        }
         let lut = match (&self.lut, self.compensation) {
             (None, Compensation::None) => vec![0.0; shader_core::energy::LUT_HEADER],
             (lut, _) => crate::energy::tables_cached(backend, lut)?.lut_buffer(),
         };
-        Ok(Prepared { scene, camera, camera_label, env, lut, p_env })
+        Ok(Prepared { scene, camera, camera_label, env, lut, p_env, notices })
     }
+}
+
+/// A finite x,y,z.
+fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
+    let v: Vec<f32> = s.split(',').map(|p| p.trim().parse::<f32>()).collect::<Result<_, _>>().map_err(|_| format!("{s:?}: expected three numbers x,y,z"))?;
+    match v.as_slice() {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([*x, *y, *z]),
+        [_, _, _] => Err(format!("{s:?}: the components must be finite")),
+        _ => Err(format!("{s:?}: expected three numbers x,y,z, got {}", v.len())),
+    }
+}
+
+impl RenderCommand {
+    /// The camera with --look-from, --look-at, --up and --fov applied, and its label.
+    pub fn override_camera(&self, mut cam: CameraSpec, label: String) -> Result<(CameraSpec, String)> {
+        let mut what = Vec::new();
+        if let Some(p) = self.look_from {
+            cam.position = p;
+            what.push(format!("--look-from {p:?}"));
+        }
+        if let Some(t) = self.look_at {
+            let d = [t[0] - cam.position[0], t[1] - cam.position[1], t[2] - cam.position[2]];
+            if d == [0.0; 3] {
+                bail!("--look-at {t:?}: the camera is at that point (give another, or --look-from)");
+            }
+            cam.forward = d;
+            what.push(format!("--look-at {t:?}"));
+        }
+        if let Some(u) = self.up {
+            cam.up = u;
+            what.push(format!("--up {u:?}"));
+        }
+        if let Some(f) = self.fov {
+            if cam.yfov.is_none() {
+                bail!("--fov {f}: the camera ({label}) is orthographic");
+            }
+            cam.yfov = Some(f.to_radians());
+            what.push(format!("--fov {f}"));
+        }
+        if what.is_empty() {
+            return Ok((cam, label));
+        }
+        // checked here, with the options named: a zero direction or an up along the view
+        cam.camera(self.width, self.height).with_context(|| format!("camera overrides {}", what.join(" ")))?;
+        Ok((cam, format!("{label} with {}", what.join(" "))))
+    }
+}
+
+/// Headroom below f32::MAX that a pixel's sum of samples needs: a sample's radiance is the
+/// emitted radiance times BSDF / pdf ratios that can reach 1e4 and more.
+const OVERFLOW_HEADROOM: f64 = 1e4;
+
+/// A warning, before rendering, when the brightest emitter (emitted radiance, punctual intensity
+/// or the environment's mean radiance) times the samples per pixel comes within [`OVERFLOW_HEADROOM`] of f32::MAX:
+/// the per-pixel sums may overflow to infinity (the render then fails naming the non-finite
+/// pixels).
+pub fn overflow_risk(scene: &Scene, env: &environment::Environment, spp: u32) -> Option<String> {
+    let mut peak = (0.0f64, String::new());
+    let mut see = |v: f64, what: String| {
+        if v > peak.0 {
+            peak = (v, what);
+        }
+    };
+    for m in &scene.materials {
+        see(m.emissive.iter().fold(0.0f32, |a, &b| a.max(b)) as f64, format!("material '{}': emitted radiance", m.name));
+    }
+    for l in &scene.punctual_lights {
+        see(l.intensity.iter().fold(0.0f32, |a, &b| a.max(b)) as f64, format!("light '{}': intensity", l.name));
+    }
+    see(env.mean_radiance.iter().fold(0.0f32, |a, &b| a.max(b)) as f64, "environment: mean radiance".to_string());
+    let (v, what) = peak;
+    (v * spp as f64 * OVERFLOW_HEADROOM > f32::MAX as f64).then(|| {
+        format!("{what} {:e} times {spp} samples per pixel comes within {OVERFLOW_HEADROOM:e} of the largest f32 ({:e}): pixel sums may overflow to infinity", v as f32, f32::MAX)
+    })
 }
 
 /// The camera `--camera` names (name or index, [`Scene::camera`]), else the scene's first, else
@@ -260,21 +380,95 @@ pub fn pick_camera(scene: &Scene, want: Option<&str>) -> Result<(CameraSpec, Str
     }
 }
 
-/// The outputs beside `exr`: (PNG, JSON).
-pub fn sidecars(exr: &Path) -> (PathBuf, PathBuf) {
-    (exr.with_extension("png"), exr.with_extension("json"))
+/// The files one render writes (`-o`): the linear EXR, the tone-mapped PNG, the JSON summary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outputs {
+    pub exr: PathBuf,
+    pub png: PathBuf,
+    pub json: PathBuf,
+}
+
+impl RenderCommand {
+    /// The output set of `-o`: `NAME.exr` or `NAME.png` both give `NAME.{exr,png,json}`.
+    pub fn outputs(&self) -> Result<Outputs> {
+        let o = &self.output;
+        if o.is_dir() {
+            bail!("-o {}: it is a directory; give a file name (such as {})", o.display(), o.join("render.exr").display());
+        }
+        let ext = o.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match ext.as_deref() {
+            // the name as given for its own kind (`X.EXR` stays `X.EXR`)
+            Some("exr") => Ok(Outputs { exr: o.clone(), png: o.with_extension("png"), json: o.with_extension("json") }),
+            Some("png") => Ok(Outputs { exr: o.with_extension("exr"), png: o.clone(), json: o.with_extension("json") }),
+            _ => bail!(
+                "-o {}: give a name ending in .exr or .png; a render writes NAME.exr (linear), NAME.png (tone-mapped) and NAME.json (summary) together",
+                o.display()
+            ),
+        }
+    }
+
+    /// Every file this command will write, checked before any work: each directory can be
+    /// written to, no name is an existing directory, no two outputs share a name.
+    pub fn check_outputs(&self) -> Result<Vec<PathBuf>> {
+        let o = self.outputs()?;
+        let mut all = vec![o.exr, o.png, o.json];
+        if let Some(g) = &self.gbuffer {
+            all.push(g.clone());
+            all.push(crate::ssr::gbuffer::camera_path(g));
+            if self.reference_spp > 0 {
+                all.push(super::gbuffer::reference_path(g));
+            }
+        }
+        for (i, p) in all.iter().enumerate() {
+            if all[..i].contains(p) {
+                bail!("{} would be written twice: -o and --gbuffer must name different files", p.display());
+            }
+            crate::io::check_output_file(p)?;
+        }
+        Ok(all)
+    }
+}
+
+/// Ctrl-C presses seen by the render (the handler counts them; the second exits).
+static INTERRUPTS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+
+/// Install the Ctrl-C (SIGINT) handler: the first press asks the render to stop after the
+/// launch under way, the second exits at once (status 130) without writing.
+fn install_interrupt_handler() -> Result<()> {
+    ctrlc::set_handler(|| {
+        let n = INTERRUPTS.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
+        if n == 1 {
+            eprintln!("\ninterrupted: finishing the launch under way, then writing the samples so far (Ctrl-C again aborts without writing)");
+        } else {
+            eprintln!("\ninterrupted twice: aborting, nothing written");
+            std::process::exit(130);
+        }
+    })
+    .context("installing the Ctrl-C handler")
+}
+
+fn interrupted() -> bool {
+    INTERRUPTS.load(std::sync::atomic::Ordering::SeqCst) > 0
 }
 
 /// Run `host render`.
 pub fn main(cmd: RenderCommand) -> Result<()> {
     cmd.validate()?;
-    crate::io::prepare_output(&cmd.output)?;
-    if let Some(g) = &cmd.gbuffer {
-        crate::io::prepare_output(g)?;
-    }
+    let outputs = cmd.outputs()?;
+    cmd.check_outputs()?;
     let t_all = Instant::now();
+    if let Some(n) = cmd.threads {
+        if cmd.device == DeviceChoice::Gpu {
+            bail!("--threads {n}: only the CPU backend runs on threads; --device gpu was given");
+        }
+        rayon::ThreadPoolBuilder::new().num_threads(n as usize).build_global().context("--threads: setting up the CPU backend's threads")?;
+    }
     let backend = Backend::select(cmd.device)?;
     eprintln!("{}", backend.describe());
+    if let (Some(n), Backend::Gpu(_)) = (cmd.threads, &backend) {
+        bail!("--threads {n}: only the CPU backend runs on threads, and --device auto picked the GPU backend (use --device cpu)");
+    }
+    install_interrupt_handler()?;
     let t_load = Instant::now();
     let prep = cmd.prepare(&backend)?;
     let load_s = t_load.elapsed().as_secs_f64();
@@ -296,9 +490,12 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     let t_render = Instant::now();
     let mut bar = Bar::new(&cmd);
     bar.start("rendering", cmd.spp);
-    let rendered = super::render(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, |d| bar.update(d));
+    let rendered = super::render_until(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, |d| bar.update(d), interrupted);
     bar.finish();
     let (img, time) = rendered?;
+    // a Ctrl-C after the last launch still skips the --gbuffer stage below
+    let stopped = img.spp < cmd.spp || interrupted();
+    let mut warnings: Vec<String> = s.warnings.iter().chain(&prep.notices).cloned().collect();
     let wall = t_render.elapsed().as_secs_f64();
     let compile = match &backend {
         Backend::Gpu(g) => g.compile_seconds(super::ENTRY),
@@ -306,28 +503,46 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     };
     let digest = img.digest();
     eprintln!(
-        "rendered {}x{} at {} spp in {:.3} s ({}; wall {:.3} s{}): {:.3} M rays/s, {:.3} M samples/s; image digest {digest:016x}",
+        "rendered {}x{} at {} spp{} in {:.3} s ({}; wall {:.3} s{}): {:.3} M rays/s, {:.3} M samples/s; image digest {digest:016x}",
         cmd.width,
         cmd.height,
-        cmd.spp,
+        img.spp,
+        if stopped { format!(" (interrupted: {} of {} spp)", img.spp, cmd.spp) } else { String::new() },
         time.seconds,
         time.source,
         wall,
         compile.map(|c| format!(", of which driver compile {c:.3} s")).unwrap_or_default(),
         img.rays / wall / 1e6,
-        pixels * cmd.spp as f64 / wall / 1e6
+        pixels * img.spp as f64 / wall / 1e6
     );
+    let nonfinite = img.color.chunks_exact(3).filter(|c| c.iter().any(|v| !v.is_finite())).count();
+    if nonfinite > 0 {
+        let w = format!(
+            "{nonfinite} of {} pixels are not finite (NaN or infinite radiance; magenta in the PNG): the scene's radiance overflows f32 on the way to a pixel",
+            img.width as usize * img.height as usize
+        );
+        eprintln!("error: {w}");
+        warnings.push(w);
+    }
+    let mut set = crate::io::FileSet::new();
     let gbuffer = match &cmd.gbuffer {
-        Some(path) => Some(export_gbuffer(&cmd, path, &backend, &prep, &inputs, &params, &img)?),
+        Some(_) if stopped => {
+            let w = "--gbuffer: not written, the render was interrupted".to_string();
+            eprintln!("notice: {w}");
+            warnings.push(w);
+            None
+        }
+        Some(path) => Some(export_gbuffer(&cmd, path, &backend, &prep, &inputs, &params, &img, &mut set)?),
         None => None,
     };
-    super::write_exr(&cmd.output, &img)?;
-    let (png, json) = sidecars(&cmd.output);
-    crate::io::write_png(&png, &super::preview(img.width, img.height, &img.color, cmd.exposure, cmd.tonemap))?;
+    let (png, json) = (outputs.png.clone(), outputs.json.clone());
+    set.stage(&[&outputs.exr], |t| super::write_exr(t, &img))?;
+    set.stage(&[&png], |t| crate::io::write_png(t, &super::preview(img.width, img.height, &img.color, cmd.exposure, cmd.tonemap)))?;
     let summary = serde_json::json!({
         "scene": cmd.scene.as_ref().map(|p| p.display().to_string()),
         "backend": backend.describe(),
         "width": cmd.width, "height": cmd.height, "spp": cmd.spp, "spp_per_pass": cmd.spp_per_pass,
+        "samples_per_pixel": img.spp, "interrupted": stopped, "nonfinite_pixels": nonfinite, "threads": rayon::current_num_threads(),
         "max_depth": cmd.max_depth, "rr_depth": cmd.rr_depth, "seed": cmd.seed,
         "strategy": format!("{:?}", cmd.strategy).to_lowercase(), "compensation": cmd.compensation.label(),
         "clamp": cmd.clamp, "camera": prep.camera_label, "environment": prep.env.label,
@@ -336,11 +551,21 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         "scene_bytes": s.words.len() * 4, "bvh_build_seconds": s.build_seconds, "load_seconds": load_s,
         "render_seconds": time.seconds, "render_timing": time.source.to_string(), "render_wall_seconds": wall,
         "driver_compile_seconds": compile, "rays": img.rays, "rays_per_second": img.rays / wall,
-        "digest": format!("{digest:016x}"), "warnings": s.warnings, "total_seconds": t_all.elapsed().as_secs_f64(),
+        "digest": format!("{digest:016x}"), "warnings": warnings, "total_seconds": t_all.elapsed().as_secs_f64(),
         "orbit_degrees_per_frame": cmd.orbit, "frame": cmd.orbit.map(|_| cmd.frame.unwrap_or(1)), "gbuffer": gbuffer,
     });
-    crate::io::write_file(&json, serde_json::to_string_pretty(&summary)? + "\n")?;
-    eprintln!("wrote {}, {}, {}", cmd.output.display(), png.display(), json.display());
+    let text = serde_json::to_string_pretty(&summary)? + "\n";
+    set.stage(&[&json], |t| Ok(std::fs::write(t, &text)?))?;
+    let written = set.commit()?;
+    let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    eprintln!("wrote {}", names.join(", "));
+    if nonfinite > 0 {
+        bail!("{nonfinite} pixels are not finite (the files are written for inspection; the JSON's nonfinite_pixels counts them)");
+    }
+    if stopped {
+        eprintln!("interrupted: the files hold {} of {} samples per pixel", img.spp, cmd.spp);
+        std::process::exit(130);
+    }
     Ok(())
 }
 
@@ -348,6 +573,11 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
 /// `--quiet`.
 struct Bar {
     quiet: bool,
+    /// stderr is not a terminal: log lines every `every` seconds instead of the bar.
+    lines: bool,
+    every: f64,
+    last_line: f64,
+    total: u32,
     pixels: f64,
     what: String,
     t0: Instant,
@@ -356,15 +586,39 @@ struct Bar {
 
 impl Bar {
     fn new(cmd: &RenderCommand) -> Bar {
-        Bar { quiet: cmd.quiet, pixels: cmd.width as f64 * cmd.height as f64, what: String::new(), t0: Instant::now(), bar: indicatif::ProgressBar::hidden() }
+        use std::io::IsTerminal;
+        Bar {
+            quiet: cmd.quiet,
+            lines: !std::io::stderr().is_terminal(),
+            every: cmd.progress_every as f64,
+            last_line: 0.0,
+            total: 0,
+            pixels: cmd.width as f64 * cmd.height as f64,
+            what: String::new(),
+            t0: Instant::now(),
+            bar: indicatif::ProgressBar::hidden(),
+        }
     }
+}
+
+/// One progress line: `what: done/total spp (pct), rate, elapsed, time left`.
+pub fn progress_line(what: &str, done: u32, total: u32, seconds: f64, pixels: f64) -> String {
+    let rate = done as f64 / seconds.max(1e-9);
+    let left = (total.saturating_sub(done)) as f64 / rate.max(1e-12);
+    format!(
+        "{what}: {done}/{total} spp ({:.1}%), {:.3} M samples/s, {seconds:.1} s elapsed, about {left:.1} s left",
+        100.0 * done as f64 / total.max(1) as f64,
+        rate * pixels / 1e6
+    )
 }
 
 impl super::gbuffer::Progress for Bar {
     fn start(&mut self, what: &str, total: u32) {
         self.what = what.to_string();
         self.t0 = Instant::now();
-        self.bar = if self.quiet {
+        self.total = total;
+        self.last_line = 0.0;
+        self.bar = if self.quiet || self.lines {
             indicatif::ProgressBar::hidden()
         } else {
             let b = indicatif::ProgressBar::new(total as u64);
@@ -380,6 +634,10 @@ impl super::gbuffer::Progress for Bar {
     fn update(&mut self, done: u32) {
         self.bar.set_position(done as u64);
         let dt = self.t0.elapsed().as_secs_f64();
+        if self.lines && !self.quiet && done < self.total && dt - self.last_line >= self.every {
+            self.last_line = dt;
+            eprintln!("{}", progress_line(&self.what, done, self.total, dt, self.pixels));
+        }
         self.bar.set_message(format!("{}: {:.2} M samples/s", self.what, done as f64 * self.pixels / dt.max(1e-9) / 1e6));
     }
     fn finish(&mut self) {
@@ -389,7 +647,7 @@ impl super::gbuffer::Progress for Bar {
 
 /// `--gbuffer`: render the previous frame's colour (when the camera moves), the G-buffer and
 /// the reference, and write them; returns the summary's `gbuffer` entry.
-fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Prepared, inputs: &RenderInputs<'_>, params: &RenderParams, img: &super::RenderImage) -> Result<serde_json::Value> {
+fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Prepared, inputs: &RenderInputs<'_>, params: &RenderParams, img: &super::RenderImage, set: &mut crate::io::FileSet) -> Result<serde_json::Value> {
     use super::gbuffer::{export_frame, FrameSpec};
     let (w, h) = (cmd.width, cmd.height);
     let radius = prep.scene.bounds.bounding_sphere().1;
@@ -418,15 +676,16 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
         noise_rel: None,
     });
     let e = export_frame(backend, inputs, &spec, Some(&img.color), info, &mut Bar::new(cmd))?;
-    e.gbuffer.save(path)?;
-    let mut files = vec![path.display().to_string(), crate::ssr::gbuffer::camera_path(path).display().to_string()];
+    let cam = crate::ssr::gbuffer::camera_path(path);
+    set.stage(&[path, &cam], |t| e.gbuffer.save(t))?;
+    let mut files = vec![path.display().to_string(), cam.display().to_string()];
     if let Some(r) = &e.reference {
-        r.save(&ref_path)?;
+        set.stage(&[&ref_path], |t| r.save(t))?;
         files.push(ref_path.display().to_string());
     }
     let glossy = e.reference.as_ref().map(|r| r.glossy.iter().filter(|g| **g).count()).unwrap_or(0);
     eprintln!(
-        "G-buffer{}: {:.3} s ({}; wall {:.3} s, {:.3} M rays/s), {} glossy pixels{}; wrote {}",
+        "G-buffer{}: {:.3} s ({}; wall {:.3} s, {:.3} M rays/s), {} glossy pixels{}; writes {} with the render's files",
         match e.gbuffer.reference.as_ref().and_then(|r| r.noise_rel) {
             Some(n) => format!(" + reference ({} samples per glossy pixel, relative noise {n:.4})", cmd.reference_spp),
             None if cmd.reference_spp > 0 => format!(" + reference ({} samples per glossy pixel)", cmd.reference_spp),
@@ -438,7 +697,7 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
         e.rays / e.gbuffer_wall.max(1e-9) / 1e6,
         glossy,
         if e.previous_seconds > 0.0 { format!("; previous frame's colour {:.3} s", e.previous_seconds) } else { String::new() },
-        files.join(", ")
+        files.join(", ") + " (renamed into place with the render's files)"
     );
     Ok(serde_json::json!({
         "files": files, "reference_spp": cmd.reference_spp, "max_roughness": cmd.max_roughness,

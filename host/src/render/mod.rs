@@ -138,13 +138,20 @@ pub fn digest<'a>(values: impl IntoIterator<Item = &'a f32>) -> u64 {
 
 /// Render `total_spp` samples per pixel in launches of at most `spp_per_pass`, calling
 /// `progress(samples done)` after each launch. Returns the image and the summed launch time.
-pub fn render(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, mut progress: impl FnMut(u32)) -> Result<(RenderImage, Timing)> {
+pub fn render(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, progress: impl FnMut(u32)) -> Result<(RenderImage, Timing)> {
+    render_until(backend, inputs, base, total_spp, spp_per_pass, progress, || false)
+}
+
+/// [`render`], stopping early when `stop()` is true after a launch (at least one launch runs, so
+/// the image holds samples): the image then holds the samples of the launches done
+/// ([`RenderImage::spp`] of them in every pixel).
+pub fn render_until(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, mut progress: impl FnMut(u32), stop: impl Fn() -> bool) -> Result<(RenderImage, Timing)> {
     if total_spp == 0 || spp_per_pass == 0 {
         bail!("spp and spp per pass must be at least 1");
     }
     let mut acc = Accumulator::new(base.width, base.height);
     let mut time: Option<Timing> = None;
-    while acc.spp < total_spp {
+    while acc.spp < total_spp && !(acc.spp > 0 && stop()) {
         let n = (total_spp - acc.spp).min(spp_per_pass);
         let p = RenderParams { spp: n, sample_base: base.sample_base + acc.spp, ..*base };
         let (out, t) = launch(backend, inputs, &p).with_context(|| format!("render launch at sample {}", acc.spp))?;
@@ -235,9 +242,18 @@ pub enum ToneMap {
     Clamp,
 }
 
+/// The largest `--exposure` in stops either way: 2^64 times the largest f32 still squares
+/// within f64 in the tone curve, and beyond it every pixel of any image is black or white.
+pub const EXPOSURE_LIMIT: f32 = 64.0;
+
 impl ToneMap {
     /// The curve at `x >= 0`, in [0, 1].
     pub fn apply(self, x: f32) -> f32 {
+        self.apply_f64(x as f64) as f32
+    }
+
+    /// The curve at `x >= 0` (finite), in [0, 1], in f64 (no overflow for x up to 1e150).
+    pub fn apply_f64(self, x: f64) -> f64 {
         let y = match self {
             ToneMap::Aces => (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14),
             ToneMap::Reinhard => x / (1.0 + x),
@@ -249,8 +265,12 @@ impl ToneMap {
 
 /// The 8-bit sRGB preview of linear `rgb` (interleaved): `2^ev` exposure, tone curve, sRGB OETF.
 /// Non-finite values show as magenta.
+///
+/// The exposure scale and the curve are evaluated in f64, so any finite radiance with any
+/// exposure within [`EXPOSURE_LIMIT`] stops maps to its tone value: no f32 overflow (a curve
+/// of inf / inf) turns a bright pixel black.
 pub fn preview(width: u32, height: u32, rgb: &[f32], ev: f32, tone: ToneMap) -> image::RgbImage {
-    let scale = 2f32.powf(ev);
+    let scale = 2f64.powf(ev as f64);
     let mut img = image::RgbImage::new(width, height);
     for (i, p) in img.pixels_mut().enumerate() {
         let c = &rgb[3 * i..3 * i + 3];
@@ -259,7 +279,7 @@ pub fn preview(width: u32, height: u32, rgb: &[f32], ev: f32, tone: ToneMap) -> 
             continue;
         }
         let enc = |v: f32| {
-            let t = tone.apply((v * scale).max(0.0));
+            let t = tone.apply_f64((v as f64 * scale).max(0.0)) as f32;
             let s = if t <= 0.003_130_8 { 12.92 * t } else { 1.055 * t.powf(1.0 / 2.4) - 0.055 };
             (s * 255.0).round().clamp(0.0, 255.0) as u8
         };

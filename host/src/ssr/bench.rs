@@ -541,8 +541,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         eprintln!("{n}");
     }
     let info = crate::report::RunInfo::start(gpu_name.clone());
-    // Energy tables for the specular column (default precompute, deterministic Sobol points).
-    let lut = crate::energy::precompute(&cpu, &crate::energy::TableSpec::default(), false)?.0.lut_buffer();
+    // Energy tables for the specular column (the default tables, deterministic Sobol points,
+    // cached in the user cache directory like every command's).
+    let lut = crate::energy::tables_cached(&cpu, &None)?.lut_buffer();
     // The glTF scenes' inputs are path traced on a hardware GPU if there is one, else on the
     // CPU backend (a software adapter such as lavapipe path traces far slower than the CPU
     // backend; the image is the same bits either way).

@@ -121,7 +121,8 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
     /// Energy tables (`host energy precompute` .bin) for the specular output's preintegrated FG
-    /// term; without it the default tables are precomputed on the chosen backend.
+    /// term; without it the default tables, computed once and cached in the user cache
+    /// directory (as `host render` does).
     #[arg(long)]
     pub lut: Option<PathBuf>,
 }
@@ -507,7 +508,7 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
     let limit = steps_limit(a, w, h)?;
     let backend = Backend::select(a.device)?;
     eprintln!("{}", backend.describe());
-    let tables = crate::energy::load_or_precompute(&backend, &a.lut)?;
+    let tables = crate::energy::tables_cached(&backend, &a.lut)?;
     let (result, specular) = run_frame(&backend, &input, a, &tables.lut_buffer())?;
     let sky = input.gbuffer.fallback;
     for t in &result.times {

@@ -96,6 +96,12 @@ pub fn camera_path(exr: &Path) -> PathBuf {
     exr.with_extension("json")
 }
 
+/// The channels [`GBuffer::save`] writes and [`GBuffer::load`] needs (the optional far depth
+/// aside).
+pub const GBUFFER_CHANNELS: &[&str] = &[
+    "depth", "normal.X", "normal.Y", "normal.Z", "roughness", "metalness", "basecolor.R", "basecolor.G", "basecolor.B", "color.R", "color.G", "color.B", "motion.X", "motion.Y",
+];
+
 impl GBuffer {
     /// A `width` x `height` G-buffer with its colour, cameras and fallback and empty per-pixel
     /// channels (a far-depth channel included) sized for the pixels a producer pushes in order.
@@ -300,6 +306,20 @@ impl GBuffer {
     /// the camera JSON beside it, and validate the result.
     pub fn load(exr: &Path) -> Result<GBuffer> {
         let img = read_exr(exr)?;
+        // The channels first: an EXR of another kind (a `host render` image, whose JSON summary
+        // sits where the camera file would) is named as such, not as a bad camera file.
+        let missing: Vec<&str> = GBUFFER_CHANNELS.iter().copied().filter(|c| !img.channels.iter().any(|(n, _)| n == c)).collect();
+        if !missing.is_empty() {
+            let have: Vec<&str> = img.channels.iter().map(|(n, _)| n.as_str()).collect();
+            let render = ["R", "G", "B", "depth.Z"].iter().all(|c| have.contains(c));
+            bail!(
+                "{} is not a G-buffer: it lacks the channels {} (it has {}){}",
+                exr.display(),
+                missing.join(", "),
+                have.join(", "),
+                if render { ". It looks like a `host render` image: `host render SCENE --gbuffer g.exr` writes the G-buffer `host ssr --input` reads" } else { "" }
+            );
+        }
         let json_path = camera_path(exr);
         let text = std::fs::read_to_string(&json_path)
             .with_context(|| format!("reading the camera file {} (expected beside the EXR)", json_path.display()))?;

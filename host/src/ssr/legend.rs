@@ -45,7 +45,8 @@ pub fn strip_height(w: usize) -> usize {
     font_size(w) as usize * 5
 }
 
-fn register_font() {
+/// Make the legend's font ("ssr-legend", DejaVu Sans, embedded) available to plotters.
+pub fn register_font() {
     static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
@@ -67,24 +68,33 @@ fn label(v: f32) -> String {
     }
 }
 
+/// The integer factor an image `w` pixels wide is enlarged by (nearest neighbour) so that it is
+/// at least [`MIN_WIDTH`] wide and fills the legend's width: 1 from `MIN_WIDTH` up.
+pub fn scale(w: usize) -> usize {
+    MIN_WIDTH.div_ceil(w.max(1))
+}
+
 /// Render `pixels` (w x h RGB, row-major) with `legend` below: an RGB buffer of
-/// max(w, [`MIN_WIDTH`]) x (h + [`strip_height`]) (the image at the top left, grey beside it).
+/// (k w) x (k h + [`strip_height`]`(k w)`), k = [`scale`]`(w)`: the image enlarged k times
+/// (each pixel a k x k block), so that it spans the legend's whole width.
 pub fn render(w: usize, h: usize, pixels: &[[u8; 3]], legend: &Legend) -> Result<(usize, usize, Vec<u8>)> {
     anyhow::ensure!(pixels.len() == w * h, "debug image has {} pixels, expected {}", pixels.len(), w * h);
     register_font();
-    let tw = w.max(MIN_WIDTH);
-    let sh = strip_height(w);
-    let th = h + sh;
+    let k = scale(w);
+    let (tw, ih) = (w * k, h * k);
+    let sh = strip_height(tw);
+    let th = ih + sh;
     let mut buf = vec![255u8; tw * th * 3];
-    for y in 0..h {
+    for y in 0..ih {
         for x in 0..tw {
-            let c = if x < w { pixels[y * w + x] } else { [128, 128, 128] };
+            let c = pixels[(y / k) * w + x / k];
             buf[(y * tw + x) * 3..(y * tw + x) * 3 + 3].copy_from_slice(&c);
         }
     }
+    let h = ih;
     {
         let root = BitMapBackend::with_buffer(&mut buf, (tw as u32, th as u32)).into_drawing_area();
-        let fs = font_size(w) as i32;
+        let fs = font_size(tw) as i32;
         let text = |p: Pos| ("ssr-legend", fs as u32).into_font().color(&BLACK).pos(p);
         let top = h as i32;
         let left = Pos::new(HPos::Left, VPos::Top);

@@ -101,7 +101,7 @@ fn parse_config(line: &str, width: usize, height: usize) -> Result<Config> {
     args.validate(&|id| matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine)).with_context(|| format!("--config {line:?}"))?;
     let input = load_input(&args).with_context(|| format!("--config {line:?}"))?;
     steps_limit(&args, input.gbuffer.width, input.gbuffer.height).with_context(|| format!("--config {line:?}"))?;
-    let lut = crate::energy::load_or_precompute(&Backend::Cpu, &args.lut).with_context(|| format!("--config {line:?}"))?.lut_buffer();
+    let lut = crate::energy::tables_cached(&Backend::Cpu, &args.lut).with_context(|| format!("--config {line:?}"))?.lut_buffer();
     Ok(Config { label: line.trim().to_string(), args, input, lut })
 }
 

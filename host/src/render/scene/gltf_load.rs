@@ -14,8 +14,11 @@
 //! unsupported extensions ignored (an error when listed in `extensionsRequired`); skins and
 //! morph targets ignored (bind pose), animations ignored (rest pose); occlusion textures
 //! ignored; zero-area triangles dropped (with their count). Errors name the file and the
-//! element: malformed JSON, a missing or short buffer, a missing or undecodable image, an
-//! accessor or index out of range, a non-finite position, no triangles.
+//! element: malformed JSON, a `.glb` without the GLB magic, a missing or short buffer, a missing
+//! or undecodable image, an accessor or index out of range, a non-finite position, no triangles
+//! (points and lines only: named as unsupported), a directional or spot light without a
+//! direction. Before the `gltf` crate's validation, [`super::validate`] checks the document
+//! against the specification's bounds, naming the JSON path of each fault.
 
 use super::math::{normalize, Mat4};
 use super::{AlphaMode, CameraDesc, LightKind, Material, MeshData, Projection, PunctualLight, Scene, SceneBuilder, Texture, Wrap};
@@ -31,6 +34,7 @@ const SUPPORTED: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_stre
 pub fn load(path: &Path) -> Result<Scene> {
     let file = path.display().to_string();
     let bytes = std::fs::read(path).with_context(|| format!("{file}: cannot read the glTF file"))?;
+    check_container(&file, path, &bytes)?;
     let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| anyhow!("{file}: malformed glTF: {e}"))?;
     let blob = gltf.blob.clone();
     let root = gltf.document.into_json();
@@ -38,6 +42,12 @@ pub fn load(path: &Path) -> Result<Scene> {
         if !SUPPORTED.contains(&ext.as_str()) {
             bail!("{file}: extensionsRequired lists '{ext}', which this loader does not support (supported: {})", SUPPORTED.join(", "));
         }
+    }
+    // Our checks first: the gltf crate's validation follows a primitive's POSITION index
+    // unchecked, and it does not check the bounds the specification puts on values.
+    let faults = super::validate::check(&root);
+    if !faults.list.is_empty() {
+        bail!("{file}: invalid glTF: {}", faults.message());
     }
     let doc = gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(errs) => {
@@ -47,7 +57,27 @@ pub fn load(path: &Path) -> Result<Scene> {
         e => anyhow!("{file}: invalid glTF: {e}"),
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
-    Loader { file: file.clone(), base, doc: &doc, blob, buffers: Vec::new(), textures: HashMap::new(), b: SceneBuilder::new(&file), default_material: None }.run()
+    Loader { file: file.clone(), base, doc: &doc, blob, buffers: Vec::new(), textures: HashMap::new(), b: SceneBuilder::new(&file), default_material: None, skipped: Vec::new() }.run()
+}
+
+/// A `.glb` must start with the GLB magic `glTF`; any other file must be JSON (start with `{`,
+/// after whitespace or a byte-order mark) or a GLB. Says which of the two the file is not,
+/// instead of a JSON parse error at line 1, column 1.
+fn check_container(file: &str, path: &Path, bytes: &[u8]) -> Result<()> {
+    let head: Vec<String> = bytes.iter().take(4).map(|b| format!("{b:02x}")).collect();
+    let glb_ext = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    if glb_ext {
+        bail!("{file}: not a GLB file: it starts with the bytes {} where a GLB has the magic 'glTF' (67 6c 54 46)", head.join(" "));
+    }
+    let body = bytes.strip_prefix(b"\xef\xbb\xbf".as_slice()).unwrap_or(bytes);
+    match body.iter().find(|b| !b.is_ascii_whitespace()) {
+        Some(b'{') => Ok(()),
+        None => bail!("{file}: the file is empty"),
+        Some(_) => bail!("{file}: neither a glTF JSON document (which starts with '{{') nor a GLB (magic 'glTF'): it starts with the bytes {}", head.join(" ")),
+    }
 }
 
 struct Loader<'a> {
@@ -59,6 +89,8 @@ struct Loader<'a> {
     textures: HashMap<usize, u32>,
     b: SceneBuilder,
     default_material: Option<u32>,
+    /// Points and lines primitives skipped: (JSON path, mode).
+    skipped: Vec<(String, Mode)>,
 }
 
 /// Decodes RFC 4648 base64 (whitespace ignored, padding optional).
@@ -237,6 +269,7 @@ impl<'a> Loader<'a> {
         let mode = p.mode();
         if matches!(mode, Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip) {
             self.b.warn(format!("{}: {what}: {mode:?} primitives are skipped (only triangles are rendered)", self.file));
+            self.skipped.push((format!("meshes[{}].primitives[{}].mode", mesh.index(), p.index()), mode));
             return Ok(());
         }
         if p.morph_targets().len() > 0 {
@@ -307,6 +340,9 @@ impl<'a> Loader<'a> {
         let origin = world.point([0.0; 3]).map(|x| x as f32);
         let axis = |v: [f64; 3]| normalize(world.vector(v));
         if let Some(cam) = node.camera() {
+            if !origin.iter().all(|x| x.is_finite()) {
+                bail!("{}: node {}{nname}: its camera is at a non-finite position {origin:?} after the node transforms (nodes[{}])", self.file, node.index(), node.index());
+            }
             let f = axis([0.0, 0.0, -1.0]).ok_or_else(|| anyhow!("{}: node {}{nname}: its camera's transform is singular", self.file, node.index()))?;
             let u0 = world.vector([0.0, 1.0, 0.0]);
             let d = super::math::dot(u0, f);
@@ -319,7 +355,16 @@ impl<'a> Loader<'a> {
             self.b.camera(CameraDesc { name, position: origin, forward: f.map(|x| x as f32), up: up.map(|x| x as f32), projection });
         }
         if let Some(light) = node.light() {
-            let dir = axis([0.0, 0.0, -1.0]).unwrap_or([0.0, 0.0, -1.0]).map(|x| x as f32);
+            let directed = !matches!(light.kind(), gltf::khr_lights_punctual::Kind::Point);
+            let dir = match axis([0.0, 0.0, -1.0]) {
+                Some(d) => d.map(|x| x as f32),
+                // a point light has no direction: the word is unused
+                None if !directed => [0.0, 0.0, -1.0],
+                None => bail!("{}: node {}{nname}: its light {} has no direction: the node's transform is singular (nodes[{}])", self.file, node.index(), light.index(), node.index()),
+            };
+            if !origin.iter().all(|x| x.is_finite()) {
+                bail!("{}: node {}{nname}: its light {} is at a non-finite position {origin:?} after the node transforms (nodes[{}])", self.file, node.index(), light.index(), node.index());
+            }
             let kind = match light.kind() {
                 gltf::khr_lights_punctual::Kind::Directional => LightKind::Directional,
                 gltf::khr_lights_punctual::Kind::Point => LightKind::Point,
@@ -356,6 +401,15 @@ impl<'a> Loader<'a> {
         let scene = self.doc.default_scene().or_else(|| self.doc.scenes().next()).ok_or_else(|| anyhow!("{}: the file has no scene", self.file))?;
         for n in scene.nodes() {
             self.node(n, &Mat4::IDENTITY, 0)?;
+        }
+        if self.b.triangle_count() == 0 && !self.skipped.is_empty() {
+            let list: Vec<String> = self.skipped.iter().take(4).map(|(p, m)| format!("{p} = {m:?}")).collect();
+            bail!(
+                "{}: the scene's only primitives are points or lines ({}{}), which the path tracer does not render: it renders triangles (TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN) only",
+                self.file,
+                list.join(", "),
+                if self.skipped.len() > 4 { format!(" and {} more", self.skipped.len() - 4) } else { String::new() }
+            );
         }
         self.b.build()
     }

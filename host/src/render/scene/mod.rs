@@ -12,6 +12,7 @@ mod builtin;
 mod gltf_load;
 pub mod gltf_write;
 mod math;
+mod validate;
 
 pub use builder::SceneBuilder;
 pub use builder::{luminance, material_words};
