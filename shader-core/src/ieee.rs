@@ -17,9 +17,9 @@
 //! exponent with one rounding (denormal results rounded once, gradual underflow; overflow to
 //! infinity). Everything else is `f32` add/sub/mul (no contraction: the shader build decorates
 //! them `NoContraction`), comparisons, bit casts and 32-bit integer arithmetic: no FMA, no 64-bit
-//! integers, and no branch that holds work (special operands and the denormal paths are
-//! computed alongside and picked by selects, so a driver that runs both sides of every branch,
-//! as Mesa 22.3's llvmpipe does, runs nothing twice).
+//! integers, no loop. The rare cases (special operands, denormal results) have branches of their
+//! own, which a driver skips when no lane takes them (GPUs, Mesa 23 and later); the choices
+//! inside the common path are selects.
 //!
 //! Denormals follow the floating-point environment: kept where it keeps them; where it flushes
 //! them (a GPU measured to flush, and then the CPU backend's threads with FTZ/DAZ set), a denormal
@@ -149,25 +149,24 @@ fn ulps(q: f32) -> (f32, f32) {
 /// q * 2^k rounded once (ties to even) for q = RN(Q) in [0.5, 2) and `dir`, a float of the sign of Q - q:
 /// normal and overflowing results by exact scaling in two steps (the second rounds only on
 /// overflow), denormal results by rounding q to the denormal grid, where a tie of q is broken by
-/// `dir` (the only case where rounding q twice differs from rounding Q once). Both are computed
-/// and one is picked: no branch.
+/// `dir` (the only case where rounding q twice differs from rounding Q once).
 #[inline]
 fn scale_rounded(q: f32, dir: f32, k: i32) -> f32 {
-    // Normal or overflowing: k in [-125, 129] after the clamp (above 129 everything overflows).
-    let kn = if k > 129 { 129 } else { k };
-    let kn = if kn < -125 { -125 } else { kn };
-    let k1 = kn >> 1;
-    let normal = (q * pow2i(k1)) * pow2i(kn - k1);
+    if k >= -125 {
+        // Normal or overflowing: k in [-125, 129] after the clamp (above 129 everything
+        // overflows), in two exact steps of which only the second may round (to infinity).
+        let k = if k > 129 { 129 } else { k };
+        let k1 = k >> 1;
+        return (q * pow2i(k1)) * pow2i(k - k1);
+    }
     // Denormal: below 2^-159 everything rounds to 0 anyway.
-    let kd = if k < -160 { -160 } else { k };
-    let kd = if kd > -126 { -126 } else { kd };
-    let hs = q * pow2i(kd + 100); // exact, normal
+    let k = if k < -160 { -160 } else { k };
+    let hs = q * pow2i(k + 100); // exact, normal
     let r1 = hs * pow2i(-100); // one rounding onto the denormal grid
     let t = hs - (r1 * pow2i(100)); // exact: what that rounding removed (scaled by 2^100)
     let half = pow2i(-50); // half the denormal spacing 2^-149, scaled by 2^100
     let tiny = f32::from_bits(1);
-    let den = pick((t == half) & (dir > 0.0), r1 + tiny, pick((t == -half) & (dir < 0.0), r1 - tiny, r1));
-    pick(k >= -125, normal, den)
+    pick((t == half) & (dir > 0.0), r1 + tiny, pick((t == -half) & (dir < 0.0), r1 - tiny, r1))
 }
 
 /// a / b correctly rounded (round to nearest, ties to even), denormals and signed zeros
@@ -229,8 +228,7 @@ pub fn sqrt_exact(x: f32) -> f32 {
 /// comparing 2 r1 with u xb (u the spacing above or below q, both exact) places Q against the
 /// midpoints q +- u/2 (Q is never a midpoint: a 24-bit quotient of 24-bit significands cannot end
 /// in a single 25th bit). The sign of the remainder left after that step is the direction
-/// [`scale_rounded`] needs for a denormal result. Special operands are settled alongside and
-/// picked at the end: no branch holds work.
+/// [`scale_rounded`] needs for a denormal result.
 #[inline]
 pub fn div_with_seed(a: f32, b: f32, seed: impl Fn(f32, f32) -> f32) -> f32 {
     let (ua, ub) = (a.to_bits(), b.to_bits());
@@ -238,16 +236,16 @@ pub fn div_with_seed(a: f32, b: f32, seed: impl Fn(f32, f32) -> f32) -> f32 {
     let (aa, ab) = (env_magnitude(ua & ABS_MASK), env_magnitude(ub & ABS_MASK));
     // Zero (a flushed denormal included), infinite or NaN operands: x86's results. Kept
     // denormals go on to the general path.
-    let special = (aa == 0) | (ab == 0) | (aa >= INF_BITS) | (ab >= INF_BITS);
-    let invalid = ((aa == INF_BITS) & (ab == INF_BITS)) | ((aa == 0) & (ab == 0));
-    let special_bits = pick(
-        aa > INF_BITS,
-        ua | QUIET_BIT,
-        pick(ab > INF_BITS, ub | QUIET_BIT, pick(invalid, DEFAULT_NAN_BITS, pick((aa == INF_BITS) | (ab == 0), sign | INF_BITS, sign))),
-    );
-    // The general path runs on every operand (1 for a special one: its result is not taken).
-    let (xa, ea) = unpack(pick(special, ONE_BITS, aa));
-    let (xb, eb) = unpack(pick(special, ONE_BITS, ab));
+    if (aa == 0) | (ab == 0) | (aa >= INF_BITS) | (ab >= INF_BITS) {
+        let invalid = ((aa == INF_BITS) & (ab == INF_BITS)) | ((aa == 0) & (ab == 0));
+        return f32::from_bits(pick(
+            aa > INF_BITS,
+            ua | QUIET_BIT,
+            pick(ab > INF_BITS, ub | QUIET_BIT, pick(invalid, DEFAULT_NAN_BITS, pick((aa == INF_BITS) | (ab == 0), sign | INF_BITS, sign))),
+        ));
+    }
+    let (xa, ea) = unpack(aa);
+    let (xb, eb) = unpack(ab);
     let q0 = seed(xa, xb);
     let y = 1.411_764_7 - (0.470_588_24 * xb);
     let (bh, bl) = split(xb);
@@ -265,7 +263,7 @@ pub fn div_with_seed(a: f32, b: f32, seed: impl Fn(f32, f32) -> f32) -> f32 {
     // keeps its sign (all terms are far above the underflow threshold).
     let dir = r1 - (step * xb);
     let m = scale_rounded(q, dir, ea - eb);
-    f32::from_bits(pick(special, special_bits, m.to_bits() | sign))
+    f32::from_bits(m.to_bits() | sign)
 }
 
 /// sqrt(x) correctly rounded from `seed(m)`, any approximation of sqrt(m) within 8 ULP of it, for
@@ -279,21 +277,21 @@ pub fn div_with_seed(a: f32, b: f32, seed: impl Fn(f32, f32) -> f32) -> f32 {
 /// satisfy mid+^2 = s s+ + u^2/4 and mid-^2 = s s- + u-^2/4; m and the products lie on a grid
 /// coarser than those u^2/4, so sqrt(m) > mid+ iff m > s s+, and sqrt(m) < mid- iff m <= s s-
 /// (sqrt(s s-) < mid- by the AM-GM inequality). Each comparison is exact: m - p is exact
-/// (Sterbenz) and compared with the TwoProduct error term. Special operands alongside, as in
-/// [`div_with_seed`].
+/// (Sterbenz) and compared with the TwoProduct error term.
 #[inline]
 pub fn sqrt_with_seed(x: f32, seed: impl Fn(f32) -> f32) -> f32 {
     let ux = x.to_bits();
     let ax = env_magnitude(ux & ABS_MASK);
     // x < 0 and NaN have ux >= INF_BITS, as +inf does.
-    let special = (ax == 0) | (ux >= INF_BITS);
-    let special_bits = pick(
-        ax > INF_BITS,
-        ux | QUIET_BIT,
-        // A zero or a denormal the environment flushed keeps its sign; +inf stays; x < 0 is invalid.
-        pick(ax == 0, ux & SIGN_MASK, pick(ux == INF_BITS, ux, DEFAULT_NAN_BITS)),
-    );
-    let (m, e) = unpack(pick(special, ONE_BITS, ax));
+    if (ax == 0) | (ux >= INF_BITS) {
+        return f32::from_bits(pick(
+            ax > INF_BITS,
+            ux | QUIET_BIT,
+            // A zero or a denormal the environment flushed keeps its sign; +inf stays; x < 0 is invalid.
+            pick(ax == 0, ux & SIGN_MASK, pick(ux == INF_BITS, ux, DEFAULT_NAN_BITS)),
+        ));
+    }
+    let (m, e) = unpack(ax);
     let odd = (e & 1) != 0;
     let m = pick(odd, 2.0 * m, m); // m in [1, 4), e even
     let e = e - (odd as i32);
@@ -310,8 +308,7 @@ pub fn sqrt_with_seed(x: f32, seed: impl Fn(f32) -> f32) -> f32 {
     let (dh, dl) = split(s_dn);
     let (pd, ed) = two_prod_split(s, dh, dl);
     let s = pick((m - pu) > eu, s_up, pick((m - pd) <= ed, s_dn, s));
-    let r = s * pow2i(e >> 1); // exact: the result is normal
-    f32::from_bits(pick(special, special_bits, r.to_bits()))
+    s * pow2i(e >> 1) // exact: the result is normal
 }
 
 /// Make the calling CPU thread flush denormals as a GPU measured to flush them does: x86-64
