@@ -122,7 +122,7 @@ fn two_prod_split(a: f32, bh: f32, bl: f32) -> (f32, f32) {
 fn unpack(abs_bits: u32) -> (f32, i32) {
     let denormal = abs_bits < MIN_NORMAL_BITS;
     let bits = pick(denormal, (f32::from_bits(abs_bits) * pow2i(24)).to_bits(), abs_bits);
-    let e = (bits >> 23) as i32 - pick(denormal, 127 + 24, 127) as i32;
+    let e = (bits >> 23) as i32 - pick(denormal, 127 + 24, 127);
     (f32::from_bits((bits & MANT_MASK) | ONE_BITS), e)
 }
 

@@ -735,7 +735,7 @@ mod spirv_tests {
         let name = |id: u32, s: &str| {
             let mut b = s.as_bytes().to_vec();
             b.push(0);
-            while b.len() % 4 != 0 {
+            while !b.len().is_multiple_of(4) {
                 b.push(0);
             }
             let mut w = vec![((2 + b.len() as u32 / 4) << 16) | 5, id];
