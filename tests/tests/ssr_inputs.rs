@@ -136,7 +136,7 @@ fn bad_gbuffer_files_give_clear_errors() {
     )
     .unwrap();
     let e = format!("{:#}", GBuffer::load(&p).unwrap_err());
-    assert!(e.contains("no channel \"normal.X\""), "{e}");
+    assert!(e.contains("is not a G-buffer: it lacks the channels normal.X"), "{e}");
     // Size mismatch between EXR and JSON.
     let p = tmp("size.exr");
     g.save(&p).unwrap();
