@@ -4,7 +4,7 @@
 //! Per function: evaluations per second on the CPU backend with all threads and with one thread
 //! (their ratio is the CPU scaling), on the GPU backend (timestamp queries around the compute
 //! pass: kernel time only, uploads and readback excluded) with both builds of the module (the
-//! exact one, whose division and square root are `shader_core::ieee`'s software routines, and the
+//! exact one, whose division and square root are `shader_core::ieee`'s corrected routines, and the
 //! native one, which `HOST_DIV_SQRT=auto` loads where the driver rounds them correctly), and the driver's compile time of the function's own entry
 //! point (its pipeline creation, first use). For `ggx_d` and
 //! `sample_vndf_heitz` a hand-written WGSL kernel of the same formula (host/src/wgsl/

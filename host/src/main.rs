@@ -13,7 +13,7 @@ use std::path::PathBuf;
     long_about = "Microfacet shading kernels written once in Rust, run on the GPU (rust-gpu SPIR-V via \
 wgpu/Vulkan: a real GPU or Mesa lavapipe) or natively on the CPU with the very same code.\n\n\
 --device auto uses a hardware GPU when there is one and otherwise the native CPU backend (a software \
-Vulkan adapter such as lavapipe only with --device gpu), and says which and why. HOST_ADAPTER=<substring> picks an adapter by name or driver (e.g. llvmpipe, 22.3.6); HOST_DIV_SQRT=auto (default)|exact|native picks the build of the GPU kernels (auto: the driver's own division and square root where it rounds them correctly, checked at start-up, e.g. lavapipe; else the exact software routines)."
+Vulkan adapter such as lavapipe only with --device gpu), and says which and why. HOST_ADAPTER=<substring> picks an adapter by name or driver (e.g. llvmpipe, 22.3.6); HOST_DIV_SQRT=auto (default)|exact|native picks the build of the GPU kernels (auto: the driver's own division and square root where it rounds them correctly, checked at start-up, e.g. lavapipe; else the exact build, the device's division and square root corrected exactly)."
 )]
 struct Cli {
     #[command(subcommand)]

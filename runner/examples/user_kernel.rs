@@ -25,7 +25,7 @@ fn ggx_d_normal(@builtin(global_invocation_id) id: vec3<u32>) {
 
 fn main() -> anyhow::Result<()> {
     // The adapter with the build of the built-in kernels HOST_DIV_SQRT chooses (auto: the native
-    // division where the driver rounds it correctly, else the exact software routines).
+    // division where the driver rounds it correctly, else the exact build).
     let gpu = match GpuContext::with_div_sqrt_choice() {
         Ok(g) => g,
         Err(GpuError::NoAdapter) => {

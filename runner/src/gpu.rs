@@ -222,7 +222,7 @@ impl GpuContext {
                     let p = crate::div_sqrt_probe::run(&g)?;
                     if p.passed() {
                         g.div_sqrt_why = format!(
-                            "auto: {} rounds OpFDiv/Sqrt correctly, checked on {} probe rows; HOST_DIV_SQRT=exact for the software routines",
+                            "auto: {} rounds OpFDiv/Sqrt correctly, checked on {} probe rows; HOST_DIV_SQRT=exact for the corrected routines",
                             g.info.driver, p.rows
                         );
                     } else {

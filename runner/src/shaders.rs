@@ -28,7 +28,7 @@ pub struct ShaderModule {
 /// The two builds of the main module, from the same sources (`shader_core::ieee::EXACT`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DivSqrt {
-    /// `shader_core::ieee`'s correctly rounded software routines: the same bits as the CPU on
+    /// `shader_core::ieee`'s correctly rounded routines (the device's instruction as a seed, corrected exactly): the same bits as the CPU on
     /// any conformant Vulkan device.
     Exact,
     /// The native `OpFDiv` / GLSL.std.450 `Sqrt`: faster, correctly rounded on lavapipe, up to
@@ -40,7 +40,7 @@ impl DivSqrt {
     /// One phrase for reports.
     pub fn describe(self) -> &'static str {
         match self {
-            DivSqrt::Exact => "div/sqrt exact (shader_core::ieee software routines)",
+            DivSqrt::Exact => "div/sqrt exact (shader_core::ieee seed and correction)",
             DivSqrt::Native => "div/sqrt native (OpFDiv/Sqrt)",
         }
     }
@@ -54,7 +54,7 @@ pub enum DivSqrtChoice {
     /// runs with both builds) once [`crate::div_sqrt_probe`] has found its division and square
     /// root correctly rounded on the adapter; the exact build everywhere else.
     Auto,
-    /// `exact`: the software routines on every adapter.
+    /// `exact`: the corrected routines on every adapter.
     Exact,
     /// `native`: the driver's division and square root on every adapter, checked or not (bit
     /// exactness with the CPU then holds only where the driver rounds them correctly).

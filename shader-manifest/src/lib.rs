@@ -21,7 +21,7 @@ pub const SUBGROUP_SPV_PATH: &str = "runner/shaders/shader-kernels-subgroup.spv.
 /// Its manifest.
 pub const SUBGROUP_MANIFEST_PATH: &str = "runner/shaders/shader-kernels-subgroup.json";
 /// The "native" variant of the main module (`native-div-sqrt` feature: `OpFDiv` / `Sqrt` instead
-/// of `shader_core::ieee`'s software routines), loaded where the driver rounds them correctly
+/// of `shader_core::ieee`'s corrected routines), loaded where the driver rounds them correctly
 /// (`HOST_DIV_SQRT=auto`, see `runner::div_sqrt_probe`) or with `HOST_DIV_SQRT=native`.
 pub const NATIVE_SPV_PATH: &str = "runner/shaders/shader-kernels-native.spv.gz";
 /// Its manifest.

@@ -15,7 +15,7 @@ fn context(b: &Backend) -> &GpuContext {
     }
 }
 
-/// The software division and square root pass the probe on every adapter: this is what
+/// The exact build's division and square root pass the probe on every adapter: this is what
 /// "bit-exact on any conformant Vulkan device" rests on, checked on the device.
 #[test]
 fn exact_build_passes_the_probe_on_this_adapter() {

@@ -616,7 +616,7 @@ fn test(install_lavapipe: bool, rest: &[String]) -> Result<()> {
     if matches!(std::env::var("HOST_DIV_SQRT").as_deref(), Err(_) | Ok("") | Ok("auto")) {
         let mut again = cargo_test(&["--release", "-p", "crosscheck", "--no-fail-fast"])?;
         again.env("HOST_DIV_SQRT", "exact");
-        eprintln!("[test] HOST_DIV_SQRT=exact cargo test --release -p crosscheck --no-fail-fast {} (the CPU-vs-GPU comparisons with the software division and square root)", rest.join(" "));
+        eprintln!("[test] HOST_DIV_SQRT=exact cargo test --release -p crosscheck --no-fail-fast {} (the CPU-vs-GPU comparisons with the exact build: the device's division and square root as seeds, corrected exactly)", rest.join(" "));
         exact_ok = again.status().context("running cargo test")?.success();
     }
     // The comparisons once more on the second lavapipe (Mesa 25.0.7, `lavapipe`), whose
