@@ -11,18 +11,10 @@
 use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
-use crate::{instructions, spirv_string};
+use crate::{
+    instructions, spirv_string, OP_DECORATE, OP_ENTRY_POINT, OP_EXECUTION_MODE, OP_FUNCTION, OP_FUNCTION_CALL, OP_FUNCTION_END, OP_MEMBER_NAME, OP_NAME, OP_SOURCE, OP_SOURCE_CONTINUED,
+};
 
-const OP_SOURCE_CONTINUED: u32 = 2;
-const OP_SOURCE: u32 = 3;
-const OP_NAME: u32 = 5;
-const OP_MEMBER_NAME: u32 = 6;
-const OP_ENTRY_POINT: u32 = 15;
-const OP_EXECUTION_MODE: u32 = 16;
-const OP_FUNCTION: u32 = 54;
-const OP_FUNCTION_END: u32 = 56;
-const OP_FUNCTION_CALL: u32 = 57;
-const OP_DECORATE: u32 = 71;
 const OP_MEMBER_DECORATE: u32 = 72;
 const OP_GROUP_DECORATE: u32 = 74;
 const OP_GROUP_MEMBER_DECORATE: u32 = 75;
@@ -30,6 +22,7 @@ const OP_EXECUTION_MODE_ID: u32 = 331;
 const OP_DECORATE_ID: u32 = 332;
 const OP_DECORATE_STRING: u32 = 5632;
 const OP_MEMBER_DECORATE_STRING: u32 = 5633;
+
 /// Instructions of the debug and annotation sections whose first operand is the id they name or
 /// decorate (and execution modes, whose first operand is an entry point's function).
 const TARGETED: [u32; 9] = [
