@@ -41,40 +41,6 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// `host bench ...`.
-#[derive(clap::Args, Debug)]
-pub struct BenchCli {
-    #[command(subcommand)]
-    pub what: BenchWhat,
-}
-
-/// The benchmarks.
-#[derive(clap::Subcommand, Debug)]
-pub enum BenchWhat {
-    /// Error (vs f64 references) and evaluations/s (CPU and GPU backends) of the visibility
-    /// approximations, the GGX D forms (fp32 and emulated fp16) and the Beckmann Lambda (exact vs
-    /// Walter). Writes a markdown table and a PNG scatter plot (error vs evaluations/s).
-    Microfacet(MicrofacetArgs),
-    /// GGX reflection samplers (NDF, ellipsoid VNDF, spherical caps, bounded VNDF): fraction of
-    /// samples below the horizon, samples/s (CPU and GPU backends), variance of a one-sample
-    /// albedo estimator and its error at equal time. Writes docs/vndf-bench.md and .png.
-    Vndf(crate::bench_vndf::VndfArgs),
-    /// Evaluations/s of every evaluable function on the CPU backend (all threads and one
-    /// thread) and the GPU backend, the driver compile time of each entry point, and the
-    /// rust-gpu / hand-written WGSL rate ratio for ggx_d and sample_vndf_heitz. Writes
-    /// out/kernel-rates.md and .json.
-    Kernels(crate::bench_kernels::KernelsArgs),
-    /// What reading a storage buffer costs the GPU backend's adapter against the CPU reading
-    /// the same values, and the same reads as texture fetches (hand-written WGSL kernels, no
-    /// shading math): the floor under the kernels that do little arithmetic per value read.
-    /// Needs a Vulkan adapter. Writes out/storage-bench.md and .json.
-    Storage(crate::bench_storage::StorageArgs),
-    /// Rays per second of the path tracer (CPU backend on all threads and one, GPU backend, with
-    /// bit-identical images checked), cost against scene size (1k / 30k / 300k triangles), time
-    /// to a given error at 512x512, and memory. Writes out/render-bench.md and .json.
-    Render(crate::render::bench::RenderBenchArgs),
-}
-
 /// Options of `host bench microfacet`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MicrofacetArgs {
@@ -102,18 +68,6 @@ pub struct MicrofacetArgs {
     /// Skip timing (errors only).
     #[arg(long)]
     pub no_timing: bool,
-}
-
-impl BenchCli {
-    pub fn run(self) -> Result<()> {
-        match self.what {
-            BenchWhat::Microfacet(a) => run(&a),
-            BenchWhat::Vndf(a) => crate::bench_vndf::run(&a),
-            BenchWhat::Kernels(a) => crate::bench_kernels::run(&a),
-            BenchWhat::Storage(a) => crate::bench_storage::run(&a),
-            BenchWhat::Render(a) => crate::render::bench::run(&a),
-        }
-    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -40,6 +40,13 @@ pub fn pixels(s: &str) -> Result<usize, String> {
     }
 }
 
+/// One of the named values `all` of a library enum (whose crate has no clap), by the name
+/// `name` gives it; `--help` lists the names.
+pub fn named<T: Copy + Send + Sync + 'static>(all: &'static [T], name: fn(T) -> &'static str) -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(all.iter().map(|v| name(*v))).map(move |s| *all.iter().find(|v| name(**v) == s).expect("a listed name"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

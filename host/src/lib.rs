@@ -8,14 +8,15 @@ pub use runner::{backend, cpu, div_sqrt_probe, float_controls, gpu, shaders, tim
 pub use runner::{Backend, DeviceChoice, Timing, TimingSource};
 // The f64 references live in the `reference` crate (no GPU dependencies).
 pub use reference::{energy as energy_ref, microfacet as microfacet_ref};
-pub mod eval;
+// Registry dispatch and table I/O are the `eval` crate.
+pub use ::eval::{self, npy};
 pub mod grid;
 pub mod io;
-pub mod npy;
 pub mod plot;
 pub mod render;
 pub mod report;
 pub mod ssr;
+pub mod bench;
 pub mod bench_kernels;
 pub mod bench_storage;
 pub mod bench_microfacet;

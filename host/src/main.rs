@@ -126,11 +126,13 @@ enum Cmd {
     /// Writes the reflection EXR (premultiplied RGB + opacity, the composite over the sky, hit
     /// mask, steps, and the ray-traced reference for built-in scenes) with PNG previews and debug
     /// views beside it, and prints the time per pass and the error against the reference.
-    /// `host ssr bench` runs every configuration on every scene and writes the report.
+    /// `host bench ssr` runs every configuration on every scene and writes the report.
     Ssr(host::ssr::cli::SsrCommand),
-    /// Cost and accuracy benchmarks: `host bench microfacet`, `host bench vndf`.
-    Bench(host::bench_microfacet::BenchCli),
-    /// Energy compensation for GGX (Kulla-Conty, Turquin): `host energy precompute | furnace | bench`.
+    /// Cost, accuracy and speed benchmarks, one per feature: `host bench microfacet | vndf |
+    /// kernels | storage | render | energy | ssr | ssr-ablate | ssr-wall | ssr-passes`.
+    Bench(host::bench::BenchCli),
+    /// Energy compensation for GGX (Kulla-Conty, Turquin): `host energy precompute | furnace`
+    /// (its benchmark: `host bench energy`).
     Energy(host::energy::EnergyCli),
 }
 

@@ -210,9 +210,9 @@ fn unwritable_outputs_fail_before_the_work_naming_the_file() {
         vec!["grid", "--device", "cpu", "-o", path(&bad)],
         vec!["energy", "precompute", "--device", "cpu", "-o", path(&bad)],
         vec!["energy", "furnace", "--device", "cpu", "-o", path(&bad)],
-        vec!["energy", "bench", "--device", "cpu", "--report", path(&bad_md)],
+        vec!["bench", "energy", "--device", "cpu", "--report", path(&bad_md)],
         vec!["ssr", "--device", "cpu", "-o", path(&bad)],
-        vec!["ssr", "bench", "--device", "cpu", "--report", path(&bad_md)],
+        vec!["bench", "ssr", "--device", "cpu", "--report", path(&bad_md)],
         vec!["bench", "microfacet", "--device", "cpu", "--output", path(&bad_md)],
         vec!["bench", "vndf", "--device", "cpu", "--output", path(&bad_md)],
     ] {
@@ -233,14 +233,14 @@ fn unwritable_outputs_fail_before_the_work_naming_the_file() {
 
 #[test]
 fn benches_write_to_out_by_default_with_json_beside_the_markdown() {
-    for (args, default) in [(["energy", "bench", "--help"], "out/energy-bench.md"), (["ssr", "bench", "--help"], "out/ssr_bench.md")] {
+    for (args, default) in [(["bench", "energy", "--help"], "out/energy-bench.md"), (["bench", "ssr", "--help"], "out/ssr_bench.md")] {
         let o = host(&args, &[]);
         assert!(text(&o).contains(default), "{}", text(&o));
     }
     let dir = tempfile::tempdir().unwrap();
     let md = dir.path().join("ssr.md");
     let o = host(
-        &["ssr", "bench", "--scenes", "floor", "--width", "24", "--height", "24", "--reference-samples", "2", "--device", "cpu", "--report", path(&md)],
+        &["bench", "ssr", "--scenes", "floor", "--width", "24", "--height", "24", "--reference-samples", "2", "--device", "cpu", "--report", path(&md)],
         &[],
     );
     assert!(o.status.success(), "{}", text(&o));
@@ -287,7 +287,7 @@ fn device_auto_prefers_the_cpu_backend_to_a_software_adapter() {
 
 #[test]
 fn every_option_is_documented_and_help_matches_defaults() {
-    for cmd in [&["grid"][..], &["ssr"], &["ssr", "ablate"], &["ssr", "wall"], &["ssr", "bench"], &["ssr", "passes"], &["energy", "bench"], &["energy", "precompute"], &["energy", "furnace"], &["info"], &["render"], &["eval"]] {
+    for cmd in [&["grid"][..], &["ssr"], &["bench", "ssr-ablate"], &["bench", "ssr-wall"], &["bench", "ssr"], &["bench", "ssr-passes"], &["bench", "energy"], &["energy", "precompute"], &["energy", "furnace"], &["info"], &["render"], &["eval"]] {
         let mut args = cmd.to_vec();
         args.push("--help");
         let o = host(&args, &[]);
@@ -312,7 +312,7 @@ fn ssr_bench_shows_na_where_nothing_was_measured() {
     let dir = tempfile::tempdir().unwrap();
     let md = dir.path().join("empty.md");
     let o = host(
-        &["ssr", "bench", "--scenes", "animated", "--frame", "100000", "--width", "16", "--height", "16", "--reference-samples", "1", "--device", "cpu", "--report", path(&md)],
+        &["bench", "ssr", "--scenes", "animated", "--frame", "100000", "--width", "16", "--height", "16", "--reference-samples", "1", "--device", "cpu", "--report", path(&md)],
         &[],
     );
     assert!(o.status.success(), "{}", text(&o));
@@ -418,7 +418,7 @@ fn failed_write_keeps_the_existing_file() {
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
 }
 
-/// `host ssr passes`: one row per pass with a cell per backend, the bits compared, JSON beside
+/// `host bench ssr-passes`: one row per pass with a cell per backend, the bits compared, JSON beside
 /// the Markdown; configurations are checked as `host ssr` checks its options, and a backend that
 /// does not exist is named.
 #[test]
@@ -429,7 +429,7 @@ fn ssr_passes_times_every_backend_and_compares_their_bits() {
     // The GPU column needs an adapter (CI has lavapipe); without one, the CPU backend twice.
     let devices = if text(&host(&["info"], &[])).contains("llvmpipe") { "cpu,gpu:llvmpipe" } else { "cpu,cpu" };
     let o = host(
-        &["ssr", "passes", "--config", "--scene floor --pipeline sssr", "--config", "--scene thin --pipeline hdrp --resolve 3x3", w, h, "--devices", devices, "--rounds", "1", "--report", path(&md)],
+        &["bench", "ssr-passes", "--config", "--scene floor --pipeline sssr", "--config", "--scene thin --pipeline hdrp --resolve 3x3", w, h, "--devices", devices, "--rounds", "1", "--report", path(&md)],
         &[],
     );
     let t = text(&o);
@@ -449,7 +449,7 @@ fn ssr_passes_times_every_backend_and_compares_their_bits() {
     let md2 = dir.path().join("again.md");
     let baseline = md.with_extension("json");
     let o = host(
-        &["ssr", "passes", "--config", "--scene floor --pipeline sssr", "--config", "--scene floor --pipeline hdrp", w, h, "--devices", devices, "--rounds", "1", "--baseline", path(&baseline), "--report", path(&md2)],
+        &["bench", "ssr-passes", "--config", "--scene floor --pipeline sssr", "--config", "--scene floor --pipeline hdrp", w, h, "--devices", devices, "--rounds", "1", "--baseline", path(&baseline), "--report", path(&md2)],
         &[],
     );
     assert!(o.status.success(), "{}", text(&o));
@@ -462,16 +462,16 @@ fn ssr_passes_times_every_backend_and_compares_their_bits() {
     // Bad input is named.
     let not_passes = dir.path().join("other.json");
     std::fs::write(&not_passes, r#"{"run": {}, "rows": [{"scene": "floor"}]}"#).unwrap();
-    fails_with(&["ssr", "passes", w, h, "--devices", "cpu", "--baseline", path(&not_passes)], &["--baseline", "other.json", "not a `host ssr passes` JSON"]);
-    fails_with(&["ssr", "passes", w, h, "--devices", "cpu", "--baseline", "/nonexistent/b.json"], &["--baseline", "/nonexistent/b.json"]);
-    fails_with(&["ssr", "passes", w, h, "--devices", "cpu,tpu"], &["--devices", "\"tpu\"", "gpu:NAME"]);
+    fails_with(&["bench", "ssr-passes", w, h, "--devices", "cpu", "--baseline", path(&not_passes)], &["--baseline", "other.json", "not a `host bench ssr-passes` JSON"]);
+    fails_with(&["bench", "ssr-passes", w, h, "--devices", "cpu", "--baseline", "/nonexistent/b.json"], &["--baseline", "/nonexistent/b.json"]);
+    fails_with(&["bench", "ssr-passes", w, h, "--devices", "cpu,tpu"], &["--devices", "\"tpu\"", "gpu:NAME"]);
     if devices.contains("gpu") {
-        fails_with(&["ssr", "passes", w, h, "--devices", "gpu:no such adapter"], &["gpu:no such adapter", "no Vulkan adapter matches \"no such adapter\"; available: llvmpipe"]);
+        fails_with(&["bench", "ssr-passes", w, h, "--devices", "gpu:no such adapter"], &["gpu:no such adapter", "no Vulkan adapter matches \"no such adapter\"; available: llvmpipe"]);
     }
-    fails_with(&["ssr", "passes", "--config", "--scene floor --width 64", "--devices", "cpu"], &["--config", "--width"]);
-    fails_with(&["ssr", "passes", "--config", "--scene floor --pipeline sssr --resolve 3x3", w, h, "--devices", "cpu"], &["--resolve", "--pipeline hdrp"]);
-    fails_with(&["ssr", "passes", "--config", "--scene floor --thickness=-1", w, h, "--devices", "cpu"], &["--thickness", "[0, 1]"]);
-    fails_with(&["ssr", "passes", "--rounds", "0"], &["--rounds"]);
+    fails_with(&["bench", "ssr-passes", "--config", "--scene floor --width 64", "--devices", "cpu"], &["--config", "--width"]);
+    fails_with(&["bench", "ssr-passes", "--config", "--scene floor --pipeline sssr --resolve 3x3", w, h, "--devices", "cpu"], &["--resolve", "--pipeline hdrp"]);
+    fails_with(&["bench", "ssr-passes", "--config", "--scene floor --thickness=-1", w, h, "--devices", "cpu"], &["--thickness", "[0, 1]"]);
+    fails_with(&["bench", "ssr-passes", "--rounds", "0"], &["--rounds"]);
 }
 
 /// `-o out.npz` is refused before any work (only .csv and .npy are written), and CSV and .npy
@@ -616,4 +616,16 @@ fn energy_table_pngs_have_a_legend() {
             assert!(strip.contains(&c), "{name}: the legend lacks {c:?}");
         }
     }
+}
+
+/// Every benchmark is under `host bench`, and its help names each one; the old spellings
+/// (`host ssr bench`, `host energy bench`) are refused.
+#[test]
+fn one_bench_tree_names_every_benchmark() {
+    let t = text(&host(&["bench", "--help"], &[]));
+    for sub in ["microfacet", "vndf", "kernels", "storage", "render", "energy", "ssr", "ssr-ablate", "ssr-wall", "ssr-passes"] {
+        assert!(t.lines().any(|l| l.trim_start().starts_with(&format!("{sub} "))), "`host bench --help` does not list {sub}:\n{t}");
+    }
+    fails_with(&["ssr", "bench"], &["unexpected argument 'bench'"]);
+    fails_with(&["energy", "bench"], &["unrecognized subcommand 'bench'"]);
 }

@@ -28,7 +28,7 @@ use std::sync::OnceLock;
 
 fn lut() -> &'static [f32] {
     static LUT: OnceLock<Vec<f32>> = OnceLock::new();
-    LUT.get_or_init(|| energy::precompute(&Backend::Cpu, &TableSpec::default(), false).unwrap().0.lut_buffer())
+    LUT.get_or_init(|| energy::precompute(&Backend::Cpu, &TableSpec::default(), None).unwrap().0.lut_buffer())
 }
 
 /// A square of half size `s` at height 0 facing +y.

@@ -12,8 +12,8 @@ fn precompute_matches_gpu_bit_for_bit() {
     let Some(gpu) = gpu_backend() else { return };
     for seq in [Sequence::Pcg, Sequence::Sobol] {
         let spec = TableSpec { n_mu: 16, n_r: 12, n_avg: 10, samples: 700, avg_samples: 900, chunk: 256, seq, seed: 11 };
-        let (c, _) = energy::precompute(&Backend::Cpu, &spec, false).unwrap();
-        let (g, _) = energy::precompute(gpu, &spec, false).unwrap();
+        let (c, _) = energy::precompute(&Backend::Cpu, &spec, None).unwrap();
+        let (g, _) = energy::precompute(gpu, &spec, None).unwrap();
         let tag = seq.label();
         assert_bits_equal(&format!("{tag} E"), 1, &c.e, &g.e);
         assert_bits_equal(&format!("{tag} E'"), 1, &c.e_prime, &g.e_prime);
@@ -25,7 +25,7 @@ fn precompute_matches_gpu_bit_for_bit() {
 fn furnace_matches_gpu_bit_for_bit() {
     let Some(gpu) = gpu_backend() else { return };
     let spec = TableSpec { samples: 256, avg_samples: 1024, ..TableSpec::default() };
-    let (t, _) = energy::precompute(&Backend::Cpu, &spec, false).unwrap();
+    let (t, _) = energy::precompute(&Backend::Cpu, &spec, None).unwrap();
     let lut = t.lut_buffer();
     for mode in Compensation::ALL {
         for (metallic, base, seq) in [(1.0f32, 1.0f32, Sequence::Sobol), (0.0, 0.8, Sequence::Pcg), (0.5, 0.6, Sequence::Sobol)] {

@@ -19,7 +19,7 @@ fn reference() -> &'static (Vec<f64>, Vec<f64>, Vec<f64>) {
 /// The default tables (32x32, 4096 Sobol samples, E_avg 16384) on the CPU backend.
 fn tables() -> &'static Tables {
     static T: OnceLock<Tables> = OnceLock::new();
-    T.get_or_init(|| energy::precompute(&Backend::Cpu, &TableSpec::default(), false).unwrap().0)
+    T.get_or_init(|| energy::precompute(&Backend::Cpu, &TableSpec::default(), None).unwrap().0)
 }
 
 #[test]
@@ -196,7 +196,7 @@ fn bad_arguments_are_rejected() {
         TableSpec { chunk: 0, ..ok },
         TableSpec { n_avg: 5000, ..ok },
     ] {
-        assert!(energy::precompute(&Backend::Cpu, &bad, false).is_err(), "{bad:?}");
+        assert!(energy::precompute(&Backend::Cpu, &bad, None).is_err(), "{bad:?}");
     }
     let lut = tables().lut_buffer();
     let cfg = FurnaceConfig { mode: Compensation::KullaConty, metallic: f32::NAN, base: 1.0, samples: 4, seq: Sequence::Pcg, seed: 0, min_roughness: 0.0 };

@@ -15,7 +15,7 @@ use shader_core::pt::integrator::{RenderParams, STRATEGY_BSDF, STRATEGY_LIGHT, S
 
 fn lut() -> Vec<f32> {
     let spec = TableSpec { n_mu: 16, n_r: 16, n_avg: 16, samples: 256, avg_samples: 512, chunk: 256, ..TableSpec::default() };
-    energy::precompute(&Backend::Cpu, &spec, false).unwrap().0.lut_buffer()
+    energy::precompute(&Backend::Cpu, &spec, None).unwrap().0.lut_buffer()
 }
 
 fn params(scene: &Scene, w: u32, h: u32, strategy: u32, compensation: u32, p_env: f32) -> RenderParams {

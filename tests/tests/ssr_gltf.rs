@@ -103,7 +103,7 @@ fn ssr_passes_match_gpu_bit_for_bit_on_gltf_scenes() {
             assert!(f.count > 0, "{tag}: no rays");
         }
         // The specular pass with the G-buffer's base colours.
-        let lut = host::energy::precompute(&Backend::Cpu, &host::energy::TableSpec::default(), false).unwrap().0.lut_buffer();
+        let lut = host::energy::precompute(&Backend::Cpu, &host::energy::TableSpec::default(), None).unwrap().0.lut_buffer();
         let consts = build_params(&g, &SsrSettings::default()).unwrap();
         let refl: Vec<f32> = g.color.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
         let sc = c.specular(&consts, &gbuf, &g.base_color, &lut, &refl).unwrap();

@@ -19,7 +19,7 @@ const H: usize = 72;
 
 fn tables() -> Vec<f32> {
     let spec = TableSpec { samples: 1024, avg_samples: 1024, ..TableSpec::default() };
-    precompute(&Backend::Cpu, &spec, false).unwrap().0.lut_buffer()
+    precompute(&Backend::Cpu, &spec, None).unwrap().0.lut_buffer()
 }
 
 #[test]

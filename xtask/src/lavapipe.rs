@@ -83,7 +83,7 @@ pub fn env(icd: &Path) -> [(&'static str, String); 2] {
 pub const SYSTEM_ICD: &str = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
 
 /// The environment that makes a program see both lavapipes, this one and the system's (selected
-/// by driver name, e.g. `host ssr passes --devices gpu:22.3.6,gpu:25.0.7`).
+/// by driver name, e.g. `host bench ssr-passes --devices gpu:22.3.6,gpu:25.0.7`).
 pub fn env_beside_system(icd: &Path) -> Result<[(&'static str, String); 1]> {
     if !Path::new(SYSTEM_ICD).exists() {
         bail!("no system lavapipe at {SYSTEM_ICD} (apt-get install -y mesa-vulkan-drivers)");

@@ -305,9 +305,9 @@ const REPORTS: &[(&str, &[&str])] = &[
     ),
 ];
 
-/// The section of docs/ssr.md that `host ssr bench`'s Markdown replaces: from this heading up to
+/// The section of docs/ssr.md that `host bench ssr`'s Markdown replaces: from this heading up to
 /// (not including) the hand-written discussion.
-const SSR_SECTION_START: &str = "## Measured comparison (`host ssr bench`)";
+const SSR_SECTION_START: &str = "## Measured comparison (`host bench ssr`)";
 const SSR_SECTION_END: &str = "### What the numbers say";
 
 fn docs_reports(only: &[String]) -> Result<()> {

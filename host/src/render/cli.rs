@@ -106,7 +106,7 @@ pub struct RenderCommand {
     #[arg(long, value_enum, default_value = "mis")]
     pub strategy: Strategy,
     /// Energy compensation of the specular lobe: turquin, kulla-conty or none.
-    #[arg(long, value_enum, default_value = "turquin")]
+    #[arg(long, value_parser = crate::cli_args::named(&Compensation::ALL, Compensation::label), default_value = "turquin")]
     pub compensation: Compensation,
     /// Energy tables (`host energy precompute` output .bin); default: the default tables,
     /// computed once and cached in the user cache directory.

@@ -7,9 +7,9 @@
 
 pub mod bench;
 pub mod cli;
-pub mod environment;
 pub mod gbuffer;
-pub mod scene;
+// The scene model, glTF loader and environment maps are the `scene` crate.
+pub use ::scene::{self, environment};
 
 use anyhow::{bail, Context, Result};
 use runner::{Backend, Timing, TimingSource};

@@ -1,4 +1,4 @@
-//! `host ssr bench`: every configuration (HDRP linear N steps, HDRP Hi-Z with each resolve, SSSR 1
+//! `host bench ssr`: every configuration (HDRP linear N steps, HDRP Hi-Z with each resolve, SSSR 1
 //! and 4 rays per pixel with and without reuse, with and without 16 frames of temporal
 //! accumulation, sparse 1 ray per quad) on every built-in scene: RMSE and relative RMSE against
 //! the ray-traced reference (on pixels whose reference rays stay on screen, and over all glossy
@@ -529,7 +529,7 @@ pub fn bench_scene(cpu: &Backend, gpu: Option<&Backend>, input: &BenchInput, a: 
     Ok(rows)
 }
 
-/// `host ssr bench`.
+/// `host bench ssr`.
 pub fn run(a: &BenchArgs) -> Result<()> {
     let plot_path = a.plot_path();
     crate::io::prepare_output(&a.report)?;
@@ -585,10 +585,10 @@ pub struct SceneInfo {
 
 fn report(a: &BenchArgs, rows: &[Row], refs: &[SceneInfo], gpu: Option<&str>) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "## Measured comparison (`host ssr bench`)\n");
+    let _ = writeln!(s, "## Measured comparison (`host bench ssr`)\n");
     let _ = writeln!(
         s,
-        "Command: `{}cargo run --release -p host -- ssr bench --scenes {} --width {} --height {} --reference-samples {} --colour-spp {} --history-colour-spp {} --frame {}{} --report {} --plot {}` \
+        "Command: `{}cargo run --release -p host -- bench ssr --scenes {} --width {} --height {} --reference-samples {} --colour-spp {} --history-colour-spp {} --frame {}{} --report {} --plot {}` \
          ({}x{} pixels; reference: {} rays per glossy pixel).\n",
         crate::report::adapter_env(),
         a.scenes,
@@ -720,7 +720,7 @@ fn plot(path: &Path, rows: &[Row], gpu: Option<&str>) -> Result<()> {
     .save_png(path)
 }
 
-/// `host ssr ablate`: the stochastic pipeline with its parts switched off one at a time, and
+/// `host bench ssr-ablate`: the stochastic pipeline with its parts switched off one at a time, and
 /// HDRP's resolves, on one scene; relative RMSE against the on-screen reference over non-mirror
 /// glossy pixels, in total and per roughness value (to find where SSSR's error comes from).
 #[derive(Clone, Debug, clap::Args)]
@@ -805,7 +805,7 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "`host ssr ablate --scene {} --width {} --height {} --reference-samples {} --spp {}`: relative RMSE vs the on-screen reference\n",
+        "`host bench ssr-ablate --scene {} --width {} --height {} --reference-samples {} --spp {}`: relative RMSE vs the on-screen reference\n",
         a.scene, a.width, a.height, a.reference_samples, a.spp
     );
     let _ = write!(out, "| configuration | glossy rel | non-mirror rel | on-screen-only pixels, non-mirror rel |");
@@ -839,7 +839,7 @@ pub fn run_ablate(a: &AblateArgs) -> Result<()> {
     Ok(())
 }
 
-/// `host ssr wall`: wall-clock time of one stochastic frame (pyramids through resolve) on the GPU
+/// `host bench ssr-wall`: wall-clock time of one stochastic frame (pyramids through resolve) on the GPU
 /// backend, with every pass its own submission and read-back (as the per-pass cross-checks run
 /// them) against the whole frame in one command buffer with the indirect trace
 /// (`Runner::sssr_frame_passes`, what `host ssr` uses). Medians over `--repeats` runs after one

@@ -1,6 +1,6 @@
 //! `host ssr`: run either SSR pipeline on a built-in scene or an EXR G-buffer, write the
 //! reflection (EXR + PNG), debug views and per-pass times, and the error against the ray-traced
-//! reference where the scene is procedural. `host ssr bench` writes the comparison report.
+//! reference where the scene is procedural. `host bench ssr` writes the comparison report.
 
 use super::gbuffer::GBuffer;
 use super::metrics::{composite, error, figure, ErrorStats};
@@ -26,7 +26,7 @@ pub enum PipelineChoice {
     Sssr,
 }
 
-/// Options shared by `host ssr` and `host ssr bench`.
+/// Options shared by `host ssr` and `host bench ssr`.
 #[derive(Clone, Debug, clap::Args)]
 pub struct RunArgs {
     /// Built-in scene: floor, hallway, thin, animated.
@@ -608,12 +608,9 @@ pub fn run(a: &RunArgs, output: &Path, save_gbuffer: Option<&Path>) -> Result<()
     Ok(())
 }
 
-/// `host ssr [bench]`.
+/// `host ssr` (its benchmarks are `host bench ssr | ssr-ablate | ssr-wall | ssr-passes`).
 #[derive(Clone, Debug, clap::Args)]
-#[command(args_conflicts_with_subcommands = true)]
 pub struct SsrCommand {
-    #[command(subcommand)]
-    pub sub: Option<SsrSub>,
     #[command(flatten)]
     pub run: RunArgs,
     /// Output EXR; PNGs are written beside it.
@@ -624,33 +621,8 @@ pub struct SsrCommand {
     pub save_gbuffer: Option<PathBuf>,
 }
 
-#[derive(Clone, Debug, clap::Subcommand)]
-pub enum SsrSub {
-    /// Every configuration on every built-in scene: errors, times, skipped work; writes a
-    /// Markdown report, its figures as JSON and a PNG of error against time (default: out/).
-    Bench(super::bench::BenchArgs),
-    /// The stochastic pipeline with its parts switched off one at a time (non-mirror error per
-    /// roughness band), to locate its error; prints a Markdown table.
-    Ablate(super::bench::AblateArgs),
-    /// GPU wall-clock time of one stochastic frame: every pass submitted and read back on its own
-    /// against the whole frame in one command buffer (indirect trace); prints a Markdown table.
-    Wall(super::bench::WallArgs),
-    /// Per-pass frame times of several configurations on several backends in one process
-    /// (e.g. the CPU backend and two lavapipes), alternated, fastest of some rounds; checks that
-    /// every backend's reflection and specular term are bit-identical; Markdown + JSON.
-    Passes(super::passes::PassesArgs),
-}
-
 /// `host ssr ...`; `given(id)` says whether option `id` (a field name) was on the command line.
 pub fn main(cmd: SsrCommand, given: &dyn Fn(&str) -> bool) -> Result<()> {
-    match cmd.sub {
-        Some(SsrSub::Bench(b)) => super::bench::run(&b),
-        Some(SsrSub::Ablate(b)) => super::bench::run_ablate(&b),
-        Some(SsrSub::Wall(b)) => super::bench::run_wall(&b),
-        Some(SsrSub::Passes(b)) => super::passes::run(&b),
-        None => {
-            cmd.run.validate(given)?;
-            run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref())
-        }
-    }
+    cmd.run.validate(given)?;
+    run(&cmd.run, &cmd.output, cmd.save_gbuffer.as_deref())
 }

@@ -1,4 +1,4 @@
-//! The glTF scenes of the SSR benchmark (`host ssr bench`), written as glTF 2.0 files by the
+//! The glTF scenes of the SSR benchmark (`host bench ssr`), written as glTF 2.0 files by the
 //! project ([`crate::render::scene::gltf_write`]) and rendered by the path tracer's G-buffer
 //! export (`host render --gbuffer`, [`crate::render::gbuffer`]):
 //!

@@ -1,4 +1,4 @@
-//! `host ssr passes`: the per-pass times of SSR frames on several backends in one process, the
+//! `host bench ssr-passes`: the per-pass times of SSR frames on several backends in one process, the
 //! table docs/ssr.md quotes for lavapipe against the CPU backend. Every configuration (the options
 //! of one `host ssr` run) runs on every backend once per round, in turn, after one untimed warm-up
 //! round (llvmpipe compiles shader variants during the first command buffers, Mesa's disk cache
@@ -57,10 +57,10 @@ type Baseline = BTreeMap<(String, String, String), f64>;
 fn load_baseline(path: &std::path::Path) -> Result<Baseline> {
     let text = std::fs::read_to_string(path).with_context(|| format!("--baseline {}", path.display()))?;
     let doc: serde_json::Value = serde_json::from_str(&text).with_context(|| format!("--baseline {}: not JSON", path.display()))?;
-    let rows = doc["rows"].as_array().with_context(|| format!("--baseline {}: no \"rows\" array (not a `host ssr passes` JSON)", path.display()))?;
+    let rows = doc["rows"].as_array().with_context(|| format!("--baseline {}: no \"rows\" array (not a `host bench ssr-passes` JSON)", path.display()))?;
     let mut out = Baseline::new();
     for (i, r) in rows.iter().enumerate() {
-        let field = |k: &str| r[k].as_str().map(String::from).with_context(|| format!("--baseline {}: row {i} has no {k:?} (not a `host ssr passes` JSON)", path.display()));
+        let field = |k: &str| r[k].as_str().map(String::from).with_context(|| format!("--baseline {}: row {i} has no {k:?} (not a `host bench ssr-passes` JSON)", path.display()));
         let key = (field("config")?, field("device")?, field("pass")?);
         let ms = r["fastest_ms"].as_f64().filter(|v| v.is_finite() && *v > 0.0);
         let ms = ms.with_context(|| format!("--baseline {}: row {i}: \"fastest_ms\" is not a positive number", path.display()))?;
@@ -93,7 +93,7 @@ struct Config {
 fn parse_config(line: &str, width: usize, height: usize) -> Result<Config> {
     let mut words: Vec<String> = line.split_whitespace().map(String::from).collect();
     if words.iter().any(|w| w == "--width" || w == "--height" || w == "--reference-samples" || w == "--device") {
-        bail!("--config {line:?}: --width, --height, --reference-samples and --device are set by `host ssr passes` (its --width/--height/--devices)");
+        bail!("--config {line:?}: --width, --height, --reference-samples and --device are set by `host bench ssr-passes` (its --width/--height/--devices)");
     }
     words.extend(["--width".into(), width.to_string(), "--height".into(), height.to_string(), "--reference-samples".into(), "0".into()]);
     let matches = ConfigLine::command().try_get_matches_from(&words).with_context(|| format!("--config {line:?}"))?;

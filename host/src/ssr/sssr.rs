@@ -343,7 +343,7 @@ impl Runner<'_> {
     }
 
     /// [`Runner::sssr_frame_passes`] with every pass submitted (and, on the GPU, read back) on its
-    /// own: the CPU backend's path, and the GPU comparison point of `host ssr wall`.
+    /// own: the CPU backend's path, and the GPU comparison point of `host bench ssr-wall`.
     pub fn sssr_frame_passes_separately(&mut self, consts: &SsrParams, gbuf: &[f32], depth: &[f32], color: &[f32]) -> Result<FramePasses> {
         let depth_pyramid = self.depth_pyramid(consts, depth)?;
         let color_pyramid = self.color_pyramid(consts, color)?;

@@ -176,7 +176,7 @@ impl<'a> Loader<'a> {
             }
             gltf::image::Source::Uri { uri, .. } => self.read_uri(&what, uri)?,
         };
-        let decoded = image::load_from_memory(&bytes).map_err(|e| anyhow!("{}: {what}: cannot decode: {e}", self.file))?.to_rgba8();
+        let decoded = crate::image_file::decode_rgba8(&bytes).map_err(|e| anyhow!("{}: {what}: cannot decode: {e:#}", self.file))?;
         let s = t.sampler();
         let wrap = |w: gltf::texture::WrappingMode| match w {
             gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
@@ -185,9 +185,9 @@ impl<'a> Loader<'a> {
         };
         let tex = Texture {
             name: t.name().or(img.name()).map(str::to_string).unwrap_or_else(|| format!("texture {}", t.index())),
-            width: decoded.width(),
-            height: decoded.height(),
-            rgba: decoded.into_raw(),
+            width: decoded.width,
+            height: decoded.height,
+            rgba: decoded.rgba,
             wrap_s: wrap(s.wrap_s()),
             wrap_t: wrap(s.wrap_t()),
             nearest: s.mag_filter() == Some(gltf::texture::MagFilter::Nearest),

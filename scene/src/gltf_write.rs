@@ -225,7 +225,7 @@ impl GltfWriter {
         if !used.is_empty() {
             doc["extensionsUsed"] = json!(used);
         }
-        crate::io::write_file(path, serde_json::to_string_pretty(&doc)? + "\n")?;
+        fileio::write_file(path, serde_json::to_string_pretty(&doc)? + "\n")?;
         std::fs::write(path.with_file_name(&bin_name), &self.bin).with_context(|| format!("writing {}", path.with_file_name(&bin_name).display()))
     }
 }

@@ -2,7 +2,7 @@
 //! equirectangular EXR / Radiance HDR map with its importance-sampling tables (density and CDFs
 //! over luminance x sin(theta)), built here once per render.
 
-use super::scene::luminance;
+use crate::luminance;
 use anyhow::{bail, Context, Result};
 use shader_core::pt::environment::{ENV_HEADER, E_COLOR, E_HEIGHT, E_KIND, E_ROT_COS, E_ROT_SIN, E_WIDTH, KIND_BLACK, KIND_MAP, KIND_UNIFORM};
 use std::path::{Path, PathBuf};
@@ -116,13 +116,12 @@ pub fn build(spec: &EnvSpec, scale: f32, rotation_deg: f32) -> Result<Environmen
 pub fn read_map(path: &Path) -> Result<(u32, u32, Vec<f32>)> {
     let lower = path.to_string_lossy().to_ascii_lowercase();
     if lower.ends_with(".exr") {
-        let img = crate::io::read_exr(path).with_context(|| format!("reading environment map {}", path.display()))?;
+        let img = fileio::read_exr(path).with_context(|| format!("reading environment map {}", path.display()))?;
         let (r, g, b) = (img.channel("R")?, img.channel("G")?, img.channel("B")?);
         let rgb = (0..img.width * img.height).flat_map(|i| [r[i], g[i], b[i]]).collect();
         Ok((img.width as u32, img.height as u32, rgb))
     } else {
-        let img = image::open(path).with_context(|| format!("reading environment map {}", path.display()))?.into_rgb32f();
-        Ok((img.width(), img.height(), img.into_raw()))
+        crate::image_file::read_rgb_f32(path).with_context(|| format!("reading environment map {}", path.display()))
     }
 }
 

@@ -1,4 +1,5 @@
-//! `host eval`: run a registered function over a table of rows read from CSV or `.npy`.
+//! Run a registered function (`shader_kernels::eval`) over a table of rows read from CSV or
+//! `.npy`, on the CPU backend or a GPU; `host eval` is its command line.
 //!
 //! CSV: a header naming the function's input columns (any order; a missing, unknown or repeated
 //! column is an error, so a typo cannot silently fall back to a default). The output CSV repeats
@@ -13,9 +14,20 @@
 //! Any other extension (`.npz`, `.txt`, ...) is refused for input and output, rather than read
 //! or written as CSV under a name that says otherwise. Errors number the data rows from 1 in
 //! both formats (the CSV header is not counted).
+//!
+//! ```
+//! // the GGX NDF at two microfacet normals, on the CPU backend
+//! let f = eval::find_function("ggx_d")?;
+//! let table = eval::parse_csv(f, "wm_x,wm_y,wm_z,alpha_x,alpha_y\n0,0,1,0.5,0.5\n0.6,0,0.8,0.5,0.5\n".as_bytes(), false)?;
+//! let (d, _timing) = eval::run(&runner::Backend::Cpu, f, &table)?;
+//! // D(n) = 1 / (pi alpha^2) at the normal, and less away from it
+//! assert!((d[0] - 1.0 / (std::f32::consts::PI * 0.25)).abs() < 1e-6 && d[1] < d[0]);
+//! # Ok::<(), anyhow::Error>(())
+//! ```
 
-use crate::backend::Backend;
-use crate::timing::Timing;
+pub mod npy;
+
+use runner::{Backend, Timing};
 use anyhow::{anyhow, bail, Context, Result};
 use rayon::prelude::*;
 use shader_kernels::eval::{functions, FunctionInfo};
@@ -237,7 +249,7 @@ pub fn write_table(f: &FunctionInfo, table: &Table, outputs: &[f32], path: &Path
         return write_csv(f, table, outputs, std::io::stdout().lock());
     }
     let format = Format::of(path)?;
-    crate::io::write_atomic(path, |tmp| {
+    fileio::write_atomic(path, |tmp| {
         let file = std::fs::File::create(tmp)?;
         let mut w = std::io::BufWriter::new(file);
         match format {

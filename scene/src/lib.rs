@@ -6,10 +6,24 @@
 //!
 //! Conventions are glTF's: metres, right-handed, +Y up, counter-clockwise front faces, texture
 //! coordinates with (0, 0) at the image's top-left, linear colour factors, sRGB colour textures.
+//!
+//! ```
+//! // the built-in Cornell box, flattened for the kernels, with its camera
+//! let cornell = scene::Scene::builtin(scene::DEFAULT_DETAIL);
+//! assert!(cornell.counts.triangles > 0 && cornell.has_lights());
+//! assert!(cornell.camera("0").is_some());
+//! // a glTF file: the same buffer layout (`shader_core::pt::scene`)
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
+//! let loaded = scene::Scene::load(path)?;
+//! assert_eq!(loaded.words.len(), loaded.counts.words);
+//! # Ok::<(), anyhow::Error>(())
+//! ```
 
 mod builder;
 mod builtin;
+pub mod environment;
 mod gltf_load;
+pub mod image_file;
 pub mod gltf_write;
 mod math;
 mod validate;
