@@ -57,7 +57,7 @@ pub enum BenchWhat {
     Microfacet(MicrofacetArgs),
     /// GGX reflection samplers (NDF, ellipsoid VNDF, spherical caps, bounded VNDF): fraction of
     /// samples below the horizon, samples/s (CPU and GPU backends), variance of a one-sample
-    /// albedo estimator and its error at equal time. Writes docs/vndf-bench.md and .png.
+    /// albedo estimator and its error at equal time. Writes out/vndf-bench.md and .png.
     Vndf(crate::bench_vndf::VndfArgs),
     /// Evaluations/s of every evaluable function on the CPU backend (all threads and one
     /// thread) and the GPU backend, the driver compile time of each entry point, and the
@@ -92,8 +92,8 @@ pub struct MicrofacetArgs {
     #[arg(long, default_value_t = 64)]
     pub grid: usize,
     /// Markdown report.
-    /// (`cargo xtask docs-reports` regenerates the committed one under docs/.) A JSON file with
-    /// every figure is written beside it (same name, .json).
+    /// (`cargo xtask docs-reports` regenerates the committed one under docs/reports/.) A JSON
+    /// file with every figure is written beside it (same name, .json).
     #[arg(long, short, default_value = "out/microfacet-cost.md")]
     pub output: PathBuf,
     /// PNG scatter plot (error vs evaluations/s).
