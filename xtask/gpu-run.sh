@@ -128,11 +128,11 @@ if [ "${GPU_RUN_QUICK:-0}" != 1 ]; then
     # create (the exact build's), so a short budget should not leave them last.
     step "bench kernels" 200 bench kernels --device gpu --rows 1048576 --repeats 3 --output "$rep/kernel-rates.md"
     step "bench render" 120 bench render --device gpu --report "$rep/render-bench.md"
-    step "ssr passes 1920x1080" 150 ssr passes --devices gpu,cpu --rounds 3 \
+    step "bench ssr-passes 1920x1080" 150 bench ssr-passes --devices gpu,cpu --rounds 3 \
         --config "--scene floor --pipeline sssr" --config "--scene floor --pipeline hdrp" \
         --config "--scene floor --pipeline hdrp --resolve 3x3" --config "--scene floor --pipeline sssr --no-fis" \
         --report "$rep/ssr-passes-1080p.md"
-    step "energy bench" 90 energy bench --device gpu --report "$rep/energy-bench.md"
+    step "bench energy" 90 bench energy --device gpu --report "$rep/energy-bench.md"
     step "bench storage" 60 bench storage --repeats 5 --output "$rep/storage-bench.md"
 fi
 pack

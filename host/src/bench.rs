@@ -19,7 +19,7 @@ pub enum BenchWhat {
     Microfacet(crate::bench_microfacet::MicrofacetArgs),
     /// GGX reflection samplers (NDF, ellipsoid VNDF, spherical caps, bounded VNDF): fraction of
     /// samples below the horizon, samples/s (CPU and GPU backends), variance of a one-sample
-    /// albedo estimator and its error at equal time. Writes docs/vndf-bench.md and .png.
+    /// albedo estimator and its error at equal time. Writes out/vndf-bench.md and .png.
     Vndf(crate::bench_vndf::VndfArgs),
     /// Evaluations/s of every evaluable function on the CPU backend (all threads and one
     /// thread) and the GPU backend, the driver compile time of each entry point, and the

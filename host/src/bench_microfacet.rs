@@ -58,8 +58,8 @@ pub struct MicrofacetArgs {
     #[arg(long, default_value_t = 64)]
     pub grid: usize,
     /// Markdown report.
-    /// (`cargo xtask docs-reports` regenerates the committed one under docs/.) A JSON file with
-    /// every figure is written beside it (same name, .json).
+    /// (`cargo xtask docs-reports` regenerates the committed one under docs/reports/.) A JSON
+    /// file with every figure is written beside it (same name, .json).
     #[arg(long, short, default_value = "out/microfacet-cost.md")]
     pub output: PathBuf,
     /// PNG scatter plot (error vs evaluations/s).

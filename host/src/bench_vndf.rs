@@ -1,5 +1,5 @@
 //! `host bench vndf`: the GGX reflection samplers of `shader_core::vndf` compared over a grid of
-//! roughness and incidence (docs/vndf.md; the generated report is docs/vndf-bench.md).
+//! roughness and incidence (docs/vndf.md; the generated report is docs/reports/vndf-bench.md).
 //!
 //! Methods: classic NDF sampling (Walter et al. 2007), Heitz 2018 ellipsoid VNDF, Dupuy & Benyoub
 //! 2023 spherical caps, Eto & Tokuyoshi 2023 bounded VNDF, through their registered kernels
@@ -56,7 +56,8 @@ pub struct VndfArgs {
     /// Sampling-time budget (milliseconds) of the equal-time error.
     #[arg(long, default_value_t = 1.0)]
     pub budget_ms: f64,
-    /// Markdown report (`cargo xtask docs-reports` regenerates the committed one under docs/).
+    /// Markdown report (`cargo xtask docs-reports` regenerates the committed one under
+    /// docs/reports/).
     /// A JSON file with every figure is written beside it (same name, .json).
     #[arg(long, short, default_value = "out/vndf-bench.md")]
     pub output: PathBuf,

@@ -2,8 +2,8 @@
 //! `target/lavapipe/` and loaded through `VK_ICD_FILENAMES` (the system's Mesa is left alone).
 //!
 //! Debian 12 ships Mesa 22.3.6, whose llvmpipe reads a storage buffer one lane at a time
-//! (docs/storage-bench.md); the backport, built against the same LLVM 15, reads it 2-20x faster
-//! (docs/storage-bench-mesa25.md).
+//! (docs/reports/storage-bench.md); the backport, built against the same LLVM 15, reads it
+//! 2-20x faster (docs/reports/storage-bench-mesa25.md).
 //! `cargo xtask test` runs the CPU-vs-GPU comparisons on both, so a bit that differs on either
 //! driver fails the run; `cargo xtask lavapipe` prints the environment that selects it.
 

@@ -62,23 +62,24 @@ enum Cmd {
     /// `env $(cargo xtask lavapipe) ./target/release/host bench storage`.
     ///
     /// Same LLVM 15, same bits (the test command checks both); the newer llvmpipe reads storage
-    /// buffers 2-20x faster (docs/storage-bench-mesa25.md). The system's Mesa is not touched.
+    /// buffers 2-20x faster (docs/reports/storage-bench-mesa25.md). The system's Mesa is not
+    /// touched.
     Lavapipe,
-    /// Regenerate every measured report under docs/ from fresh runs of the host's benchmarks.
+    /// Regenerate every measured report under docs/reports/ from fresh runs of the host's
+    /// benchmarks.
     ///
-    /// Builds the host (release) and runs, with explicit docs/ output paths: bench microfacet
-    /// (docs/microfacet-cost.md, .png), bench vndf (docs/vndf-bench.md, .png), bench kernels
-    /// (docs/kernel-rates.md), bench storage (docs/storage-bench.md), the last two again on Mesa
-    /// 25.0.7's lavapipe (docs/*-mesa25.md; `cargo xtask lavapipe`), energy bench
-    /// (docs/energy-bench.md, .png, .json), bench render (docs/render-bench.md), energy furnace
-    /// (docs/energy-furnace.png) and ssr
-    /// bench (docs/ssr_error_vs_time.png; its Markdown replaces the "Measured comparison" section
-    /// of docs/ssr.md up to "### What the numbers say"). Other outputs go to out/docs-reports/.
-    /// Takes tens of minutes on 2 cores; review the diff before committing (the prose around
-    /// the tables quotes figures that may need updating).
+    /// Builds the host (release) and runs, with explicit docs/reports/ output paths: bench
+    /// microfacet (microfacet-cost.md, .png), bench vndf (vndf-bench.md, .png), bench kernels
+    /// (kernel-rates.md), bench storage (storage-bench.md), the last two again on Mesa 25.0.7's
+    /// lavapipe (*-mesa25.md; `cargo xtask lavapipe`), host bench energy (energy-bench.md, .png,
+    /// .json), bench render (render-bench.md), energy furnace (energy-furnace.png), the SSR
+    /// per-pass times (ssr-passes-1080p.md) and host bench ssr (ssr-bench.md, .png, .json). Every
+    /// report is a file of its own (each with a JSON beside it); no hand-written doc is
+    /// rewritten. Other outputs go to out/docs-reports/. Takes tens of minutes on 2 cores;
+    /// review the diff before committing (the docs quote some of the figures).
     DocsReports {
         /// Only these reports (comma separated): microfacet, vndf, kernels, storage, storage-mesa25,
-        /// kernels-mesa25, energy, render, furnace, ssr.
+        /// kernels-mesa25, energy, render, furnace, ssr-passes, ssr.
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
     },
@@ -253,33 +254,34 @@ fn dir_size(dir: &Path) -> Result<u64> {
     Ok(total)
 }
 
-/// The reports of `cargo xtask docs-reports`: (name, host arguments). Outputs that are not
-/// docs/ files go to out/docs-reports/. A name ending in `-mesa25` runs on Mesa 25.0.7's
-/// lavapipe ([`lavapipe`]), the rest on the machine's own Vulkan driver.
+/// The reports of `cargo xtask docs-reports`: (name, host arguments). Each writes its own files
+/// under docs/reports/ (outputs that are not reports go to out/docs-reports/). A name ending in
+/// `-mesa25` runs on Mesa 25.0.7's lavapipe ([`lavapipe`]), `ssr-passes` on both lavapipes and
+/// the CPU backend, the rest on the machine's own Vulkan driver.
 const REPORTS: &[(&str, &[&str])] = &[
     (
         "microfacet",
-        &["bench", "microfacet", "--device", "gpu", "--rows", "262144", "--repeats", "5", "--grid", "64", "--output", "docs/microfacet-cost.md", "--plot", "docs/microfacet-cost.png"],
+        &["bench", "microfacet", "--device", "gpu", "--rows", "262144", "--repeats", "5", "--grid", "64", "--output", "docs/reports/microfacet-cost.md", "--plot", "docs/reports/microfacet-cost.png"],
     ),
     (
         "vndf",
         &[
             "bench", "vndf", "--device", "auto", "--samples", "1048576", "--rows", "1048576", "--repeats", "5", "--f0", "0.04", "--budget-ms", "1", "--output",
-            "docs/vndf-bench.md", "--plot", "docs/vndf-bench.png",
+            "docs/reports/vndf-bench.md", "--plot", "docs/reports/vndf-bench.png",
         ],
     ),
-    ("kernels", &["bench", "kernels", "--device", "gpu", "--rows", "262144", "--repeats", "3", "--output", "docs/kernel-rates.md"]),
-    ("storage", &["bench", "storage", "--repeats", "5", "--output", "docs/storage-bench.md"]),
-    ("storage-mesa25", &["bench", "storage", "--repeats", "5", "--output", "docs/storage-bench-mesa25.md"]),
-    ("kernels-mesa25", &["bench", "kernels", "--device", "gpu", "--rows", "262144", "--repeats", "3", "--output", "docs/kernel-rates-mesa25.md"]),
-    ("energy", &["energy", "bench", "--device", "auto", "--report", "docs/energy-bench.md"]),
-    ("render", &["bench", "render", "--device", "auto", "--report", "docs/render-bench.md"]),
+    ("kernels", &["bench", "kernels", "--device", "gpu", "--rows", "262144", "--repeats", "3", "--output", "docs/reports/kernel-rates.md"]),
+    ("storage", &["bench", "storage", "--repeats", "5", "--output", "docs/reports/storage-bench.md"]),
+    ("storage-mesa25", &["bench", "storage", "--repeats", "5", "--output", "docs/reports/storage-bench-mesa25.md"]),
+    ("kernels-mesa25", &["bench", "kernels", "--device", "gpu", "--rows", "262144", "--repeats", "3", "--output", "docs/reports/kernel-rates-mesa25.md"]),
+    ("energy", &["bench", "energy", "--device", "auto", "--report", "docs/reports/energy-bench.md"]),
+    ("render", &["bench", "render", "--device", "auto", "--report", "docs/reports/render-bench.md"]),
     ("furnace", &["energy", "furnace", "--device", "auto", "--spheres", "11", "--size", "64", "--samples", "256", "-o", "out/docs-reports/energy-furnace.exr"]),
     (
         "ssr-passes",
         &[
-            "ssr",
-            "passes",
+            "bench",
+            "ssr-passes",
             "--devices",
             "gpu:22.3.6,gpu:25.0.7,cpu",
             "--config",
@@ -293,22 +295,17 @@ const REPORTS: &[(&str, &[&str])] = &[
             "--config",
             "--input out/ssr-scenes/cornell-1920x1080-main-c16-r64.exr --pipeline hdrp",
             "--report",
-            "docs/ssr-passes-1080p.md",
+            "docs/reports/ssr-passes-1080p.md",
         ],
     ),
     (
         "ssr",
         &[
-            "ssr", "bench", "--device", "auto", "--width", "128", "--height", "128", "--reference-samples", "256", "--colour-spp", "64", "--frame",
-            "20", "--report", "out/docs-reports/ssr_bench.md", "--plot", "docs/ssr_error_vs_time.png",
+            "bench", "ssr", "--device", "auto", "--width", "128", "--height", "128", "--reference-samples", "256", "--colour-spp", "64", "--frame",
+            "20", "--report", "docs/reports/ssr-bench.md", "--plot", "docs/reports/ssr-bench.png",
         ],
     ),
 ];
-
-/// The section of docs/ssr.md that `host bench ssr`'s Markdown replaces: from this heading up to
-/// (not including) the hand-written discussion.
-const SSR_SECTION_START: &str = "## Measured comparison (`host bench ssr`)";
-const SSR_SECTION_END: &str = "### What the numbers say";
 
 fn docs_reports(only: &[String]) -> Result<()> {
     let root = workspace_root();
@@ -340,7 +337,7 @@ fn docs_reports(only: &[String]) -> Result<()> {
             // Both lavapipes in one process; the cornell G-buffer is the 1080p bench's export.
             let cornell = root.join("out/ssr-scenes/cornell-1920x1080-main-c16-r64.exr");
             if !cornell.exists() {
-                bail!("[docs-reports] ssr-passes needs {} (written by the 1080p `ssr bench` of docs/ssr.md's \"Commands\")", cornell.display());
+                bail!("[docs-reports] ssr-passes needs {} (written by the 1080p `host bench ssr` of docs/ssr.md's \"Commands\")", cornell.display());
             }
             for (k, v) in lavapipe::env_beside_system(&lavapipe::ensure(&root)?)? {
                 cmd.env(k, v);
@@ -350,26 +347,14 @@ fn docs_reports(only: &[String]) -> Result<()> {
         if !status.success() {
             bail!("[docs-reports] {name} failed: host {}", args.join(" "));
         }
-        match *name {
-            "furnace" => {
-                std::fs::copy(root.join("out/docs-reports/energy-furnace.png"), root.join("docs/energy-furnace.png")).context("copying the furnace PNG to docs/")?;
-            }
-            "ssr" => splice_ssr_section(&root.join("docs/ssr.md"), &std::fs::read_to_string(root.join("out/docs-reports/ssr_bench.md"))?)?,
-            _ => {}
+        if *name == "furnace" {
+            std::fs::copy(root.join("out/docs-reports/energy-furnace.png"), root.join("docs/reports/energy-furnace.png"))
+                .context("copying the furnace PNG to docs/reports/")?;
         }
         eprintln!("[docs-reports] {name}: done in {:.0?}", t0.elapsed());
     }
-    eprintln!("[docs-reports] review `git diff docs/` (the prose quotes some of the figures)");
+    eprintln!("[docs-reports] review `git diff docs/reports/` (the docs quote some of the figures)");
     Ok(())
-}
-
-/// Replace docs/ssr.md's measured section with `section`.
-fn splice_ssr_section(doc: &Path, section: &str) -> Result<()> {
-    let text = std::fs::read_to_string(doc).with_context(|| format!("reading {}", doc.display()))?;
-    let start = text.find(SSR_SECTION_START).with_context(|| format!("{} has no heading {SSR_SECTION_START:?}", doc.display()))?;
-    let end = text[start..].find(SSR_SECTION_END).map(|e| start + e).with_context(|| format!("{} has no heading {SSR_SECTION_END:?}", doc.display()))?;
-    let new = format!("{}{}\n{}", &text[..start], section.trim_end(), &text[end..]);
-    std::fs::write(doc, new).with_context(|| format!("writing {}", doc.display()))
 }
 
 /// The modules `cargo xtask build-shaders` writes (the names `--only` takes).

@@ -4,7 +4,7 @@
 //! the ray-traced reference (on pixels whose reference rays stay on screen, and over all glossy
 //! pixels), FLIP on tone-mapped images, time per pass on the CPU and GPU backends, skipped work;
 //! written as a Markdown report, a JSON file of the same figures and a PNG of error against
-//! time (default under out/; `cargo xtask docs-reports` writes docs/ssr.md's section and plot).
+//! time (default under out/; `cargo xtask docs-reports` writes docs/reports/ssr-bench.*).
 
 use super::cli::{errors, Errors};
 use super::metrics::{composite, tonemap};
@@ -62,8 +62,8 @@ pub struct BenchArgs {
     /// included (none: CPU only), gpu = an error without one, cpu = CPU only.
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceChoice,
-    /// Markdown report (the "Measured comparison" section of docs/ssr.md is one; `cargo xtask
-    /// docs-reports` regenerates it); the JSON figures go beside it (`.json`).
+    /// Markdown report (docs/reports/ssr-bench.md is one; `cargo xtask docs-reports`
+    /// regenerates it); the JSON figures go beside it (`.json`).
     #[arg(long, default_value = "out/ssr_bench.md")]
     pub report: PathBuf,
     /// PNG of error against time [default: the report's path with extension .png].
