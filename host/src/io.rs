@@ -38,20 +38,8 @@ pub fn write_heatmap_png(path: &Path, width: usize, height: usize, data: &[f32],
     write_png(path, &img)
 }
 
-/// Tone-map linear HDR RGB (interleaved) to an 8-bit sRGB PNG with exposure `2^ev` and Reinhard.
+/// Tone-map linear HDR RGB (interleaved) to an 8-bit sRGB PNG with exposure `2^ev` and Reinhard
+/// ([`crate::render::preview`], the one preview encoder; non-finite pixels are magenta).
 pub fn write_rgb_preview_png(path: &Path, width: usize, height: usize, rgb: &[f32], ev: f32) -> Result<()> {
-    let scale = 2f32.powf(ev);
-    let mut img = image::RgbImage::new(width as u32, height as u32);
-    for (i, p) in img.pixels_mut().enumerate() {
-        let mut px = [0u8; 3];
-        for k in 0..3 {
-            let v = rgb[3 * i + k] * scale;
-            let v = if v.is_finite() { v.max(0.0) } else { 0.0 };
-            let t = v / (1.0 + v);
-            let s = if t <= 0.003_130_8 { 12.92 * t } else { 1.055 * t.powf(1.0 / 2.4) - 0.055 };
-            px[k] = (s * 255.0).round().clamp(0.0, 255.0) as u8;
-        }
-        *p = image::Rgb(px);
-    }
-    write_png(path, &img)
+    write_png(path, &crate::render::preview(width as u32, height as u32, rgb, ev, crate::render::ToneMap::Reinhard))
 }

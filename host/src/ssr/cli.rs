@@ -103,12 +103,12 @@ pub struct RunArgs {
     #[arg(long, conflicts_with = "no_fis")]
     pub no_ray_color: bool,
     /// GGX visible-normal sampler of the stochastic rays (SSSR, and HDRP with --resolve 3x3 or cross5).
-    #[arg(long, value_enum, default_value = "heitz")]
+    #[arg(long, value_parser = crate::cli_args::named(&VndfSampler::ALL, |v| v.label()), default_value = "heitz")]
     pub sampler: VndfSampler,
     /// SSSR temporal reprojection of the history: through the virtual image of the reflected
     /// hit (falls back to the surface's motion where the pixel's rays missed or the texel is
     /// rejected), or the surface's motion vector only.
-    #[arg(long, value_enum, default_value = "hit")]
+    #[arg(long, value_parser = crate::cli_args::named(&Reprojection::ALL, Reprojection::label), default_value = "hit")]
     pub reprojection: Reprojection,
     /// SSSR: disable the depth/normal history rejection (the neighbourhood clamp stays).
     #[arg(long)]

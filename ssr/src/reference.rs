@@ -270,14 +270,14 @@ impl Reference {
         if let Some(v) = &self.noise_var {
             refs.push(("noise_var", v.as_slice()));
         }
-        crate::io::write_exr(path, self.width, self.height, &refs)
+        fileio::write_exr(path, self.width, self.height, &refs)
     }
 
     /// Read a reference written by [`Reference::save`] for a `width x height` G-buffer; the
     /// error names a wrong size, a missing channel or a bad value.
     pub fn load(path: &std::path::Path, width: usize, height: usize, samples: u32) -> anyhow::Result<Reference> {
         use anyhow::{bail, Context};
-        let img = crate::io::read_exr(path).with_context(|| format!("reading the reference {}", path.display()))?;
+        let img = fileio::read_exr(path).with_context(|| format!("reading the reference {}", path.display()))?;
         if img.width != width || img.height != height {
             bail!("the reference {} is {}x{}, the G-buffer {width}x{height}", path.display(), img.width, img.height);
         }

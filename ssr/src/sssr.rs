@@ -4,10 +4,11 @@
 //! on either backend, and the multi-frame driver for temporal accumulation.
 
 use super::gbuffer::GBuffer;
+pub use super::pipeline::TileStats;
 use super::pipeline::{build_params, color_pyramid_passes, depth_pyramid_init, depth_pyramid_passes, ensure_color_pyramid, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
-use crate::Backend;
-use crate::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
+use runner::Backend;
+use runner::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_RAY_COLOR, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
@@ -56,12 +57,22 @@ pub struct SssrSettings {
 }
 
 /// Temporal reprojection of the reflection history.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Reprojection {
     /// Through the virtual image of the reflected hit (falls back to the surface's motion).
     Hit,
     /// Through the surface's motion vector.
     Surface,
+}
+
+impl Reprojection {
+    pub const ALL: [Reprojection; 2] = [Reprojection::Hit, Reprojection::Surface];
+    pub fn label(self) -> &'static str {
+        match self {
+            Reprojection::Hit => "hit",
+            Reprojection::Surface => "surface",
+        }
+    }
 }
 
 impl Default for SssrSettings {
@@ -83,17 +94,6 @@ impl Default for SssrSettings {
             history_rejection: true,
         }
     }
-}
-
-/// Tile classification statistics.
-#[derive(Clone, Debug, Default)]
-pub struct TileStats {
-    pub tiles: usize,
-    pub skipped: usize,
-    pub rays: usize,
-    pub eligible_pixels: usize,
-    /// Class per tile (`stochastic::TILE_*`), row-major.
-    pub classes: Vec<u32>,
 }
 
 /// The parameters of a stochastic run.
@@ -477,7 +477,7 @@ pub enum ScanKernel {
 }
 
 impl ScanKernel {
-    fn entry(self, g: &crate::gpu::GpuContext) -> Result<&'static str> {
+    fn entry(self, g: &runner::gpu::GpuContext) -> Result<&'static str> {
         const WG: &str = "ssr::sssr_scan";
         const SG: &str = "ssr_subgroup::sssr_scan_subgroup";
         match self {

@@ -1,5 +1,5 @@
 //! `host render --gbuffer`: the SSR inputs of a glTF scene (the G-buffer `host ssr --input`
-//! reads, [`crate::ssr::gbuffer`]) and the path-traced reference SSR is judged against
+//! reads, [`crate::gbuffer`]) and the path-traced reference SSR is judged against
 //! (`shader_core::pt::gbuffer`), from the kernel `render::pt_gbuffer` on either backend.
 //!
 //! World convention: glTF is right-handed (the camera looks down its -z with x right, y up);
@@ -14,10 +14,10 @@
 //! `--frame - 1` rendered with the same settings, and its motion vectors reproject each pixel's
 //! first hit (for the sky, its direction) into that frame.
 
-use super::{CameraSpec, RenderInputs};
-use crate::ssr::camera::Camera as SsrCamera;
-use crate::ssr::gbuffer::{GBuffer, ReferenceFile};
-use crate::ssr::reference::Reference;
+use render::{CameraSpec, RenderInputs};
+use crate::camera::Camera as SsrCamera;
+use crate::gbuffer::{GBuffer, ReferenceFile};
+use crate::reference::Reference;
 use anyhow::{bail, Context, Result};
 use runner::{Backend, Timing, TimingSource};
 use std::path::{Path, PathBuf};
@@ -268,7 +268,7 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
         _ => {
             let p = RenderParams { camera: spec.previous, ..spec.params };
             progress.start("previous frame", spec.spp);
-            let r = super::render(backend, inputs, &p, spec.spp, spec.spp_per_pass, |d| progress.update(d));
+            let r = render::render(backend, inputs, &p, spec.spp, spec.spp_per_pass, |d| progress.update(d));
             progress.finish();
             r?.0.color
         }

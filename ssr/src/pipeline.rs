@@ -3,9 +3,9 @@
 //! `shader_kernels::ssr`. Every pass is timed (CPU: wall clock; GPU: timestamp queries).
 
 use super::gbuffer::GBuffer;
-use crate::gpu::{groups_2d, OutputSpec};
-use crate::timing::{Timing, TimingSource};
-use crate::Backend;
+use runner::gpu::{groups_2d, OutputSpec};
+use runner::timing::{Timing, TimingSource};
+use runner::Backend;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use shader_core::ssr::params::{self, mip_size, SsrParams};
@@ -96,8 +96,19 @@ pub struct SsrSettings {
     pub sampler: VndfSampler,
 }
 
+/// Tile classification statistics.
+#[derive(Clone, Debug, Default)]
+pub struct TileStats {
+    pub tiles: usize,
+    pub skipped: usize,
+    pub rays: usize,
+    pub eligible_pixels: usize,
+    /// Class per tile (`stochastic::TILE_*`), row-major.
+    pub classes: Vec<u32>,
+}
+
 /// The visible-normal sampler of `shader_core::vndf` used for GGX rays.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VndfSampler {
     /// Heitz 2018 ellipsoid (projected-disk) sampling; bias truncates u1 (disk radius^2).
     Heitz,
@@ -108,6 +119,7 @@ pub enum VndfSampler {
 }
 
 impl VndfSampler {
+    pub const ALL: [VndfSampler; 3] = [VndfSampler::Heitz, VndfSampler::Caps, VndfSampler::Bounded];
     pub fn label(&self) -> &'static str {
         match self {
             VndfSampler::Heitz => "heitz",
@@ -542,7 +554,7 @@ impl<'a> Runner<'a> {
     }
 
     /// The specular term: `reflection` (4 values per pixel, premultiplied) times the
-    /// preintegrated FG term from the energy tables `lut` (`crate::energy::Tables::lut_buffer`),
+    /// preintegrated FG term from the energy tables `lut` (`energy::Tables::lut_buffer`),
     /// f0 = mix(0.04, base colour, metalness). 4 values per pixel (RGB, opacity).
     pub fn specular(&mut self, consts: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], reflection: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
@@ -579,7 +591,7 @@ pub struct SsrResult {
     pub reflection: Vec<f32>,
     pub times: Vec<PassTime>,
     /// Extra outputs of the stochastic pipeline (tile classes etc.).
-    pub tiles: Option<super::sssr::TileStats>,
+    pub tiles: Option<TileStats>,
     /// The reflection of the frame before the last, for multi-frame runs (temporal stability).
     pub previous_reflection: Option<Vec<f32>>,
 }

@@ -1,6 +1,6 @@
 //! The glTF scenes of the SSR benchmark (`host bench ssr`), written as glTF 2.0 files by the
-//! project ([`crate::render::scene::gltf_write`]) and rendered by the path tracer's G-buffer
-//! export (`host render --gbuffer`, [`crate::render::gbuffer`]):
+//! project ([`::scene::gltf_write`]) and rendered by the path tracer's G-buffer
+//! export (`host render --gbuffer`, [`crate::render_gbuffer`]):
 //!
 //! - `cornell`: the Cornell box of `scenes/cornell_box/` (NVIDIA's RTXGI-era
 //!   reference scene, BSD-3) with a glossy floor (perceptual roughness 0.1, dielectric) laid over
@@ -15,8 +15,8 @@
 //! Each scene also names its environment (a uniform sky radiance: the reference's fallback) and
 //! its camera path; [`GltfScene::write`] writes the files, so `host render` can render them too.
 
-use crate::render::scene::gltf_write::GltfWriter;
-use crate::render::scene::{uv_sphere, LightKind, Material, MeshData, PunctualLight};
+use ::scene::gltf_write::GltfWriter;
+use ::scene::{uv_sphere, LightKind, Material, MeshData, PunctualLight};
 use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -24,9 +24,9 @@ use std::path::{Path, PathBuf};
 /// The repository's Cornell box (`scenes/cornell_box/cornell_box.gltf`, NVIDIA, BSD-3-Clause:
 /// `scenes/cornell_box/LICENSE.txt`), built into the program so the `cornell` scene needs no
 /// file beside it.
-pub const CORNELL_GLTF: &str = include_str!("../../../scenes/cornell_box/cornell_box.gltf");
+pub const CORNELL_GLTF: &str = include_str!("../../scenes/cornell_box/cornell_box.gltf");
 /// Its buffer (`cornell_box.bin`, the `uri` of [`CORNELL_GLTF`]'s one buffer).
-pub const CORNELL_BIN: &[u8] = include_bytes!("../../../scenes/cornell_box/cornell_box.bin");
+pub const CORNELL_BIN: &[u8] = include_bytes!("../../scenes/cornell_box/cornell_box.bin");
 
 /// Degrees per frame of the `orbit` scene's camera path.
 pub const ORBIT_DEGREES: f64 = 1.5;
@@ -224,7 +224,7 @@ fn write_cornell(source: Option<&Path>, path: &Path) -> Result<()> {
             let src_bin = source.parent().unwrap_or(Path::new("")).join(&uri);
             std::fs::copy(&src_bin, &bin_path).with_context(|| format!("copying {}", src_bin.display()))?;
         }
-        None => crate::io::write_file(&bin_path, CORNELL_BIN)?,
+        None => fileio::write_file(&bin_path, CORNELL_BIN)?,
     }
     doc["buffers"][0]["uri"] = json!(bin_name);
     // The floor and the light, written by the project's writer into a second buffer.
@@ -236,7 +236,7 @@ fn write_cornell(source: Option<&Path>, path: &Path) -> Result<()> {
     let extra: Value = serde_json::from_str(&std::fs::read_to_string(&extra_path)?)?;
     std::fs::remove_file(&extra_path).ok();
     merge(&mut doc, &extra)?;
-    crate::io::write_file(path, serde_json::to_string_pretty(&doc)? + "\n")
+    fileio::write_file(path, serde_json::to_string_pretty(&doc)? + "\n")
 }
 
 /// Append document `extra` (one buffer, as written by [`GltfWriter`]) to `doc`: its buffer,

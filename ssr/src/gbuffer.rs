@@ -20,7 +20,7 @@
 //! G-buffers without it keep HDRP's constant slab.
 
 use super::camera::Camera;
-use crate::io::{read_exr, write_exr};
+use fileio::{read_exr, write_exr};
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -294,7 +294,7 @@ impl GBuffer {
             reference: self.reference.clone(),
         };
         let json = serde_json::to_string_pretty(&cams)?;
-        crate::io::write_file(&camera_path(exr), json)
+        fileio::write_file(&camera_path(exr), json)
     }
 
     /// The reference EXR's path, for a G-buffer loaded from `exr`.

@@ -1,0 +1,263 @@
+//! The path tracer of `shader_core::pt` on glTF scenes (`host render` is its command line), on
+//! the CPU backend or a Vulkan GPU, with the same per-pixel kernel function
+//! (`shader_kernels::render::pixel`) on both.
+//!
+//! A render is a sequence of launches of `--spp-per-pass` samples each; every launch returns the
+//! per-pixel sums of its samples and [`Accumulator`] adds them in launch order, so the image
+//! depends only on the scene, the settings and the seed (and is bit-identical between backends).
+
+//!
+//! ```
+//! use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
+//! // the built-in Cornell box at 16x16, 2 samples per pixel, on the CPU backend
+//! let scene = scene::Scene::builtin(scene::DEFAULT_DETAIL);
+//! let camera = render::CameraSpec::from_desc(scene.camera("0").unwrap()).camera(16, 16)?;
+//! let env = scene::environment::build(&scene::environment::EnvSpec::Black, 1.0, 0.0)?;
+//! let lut = vec![0.0; shader_core::energy::LUT_HEADER]; // no energy compensation
+//! let compensation = shader_core::energy::COMP_NONE;
+//! let params = RenderParams { width: 16, height: 16, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: STRATEGY_MIS, compensation, clamp: 0.0, p_env: 0.0, camera };
+//! let inputs = render::RenderInputs { scene: &scene.words, env: &env.words, lut: &lut };
+//! let (img, _timing) = render::render(&runner::Backend::Cpu, &inputs, &params, 2, 1, |_done| {})?;
+//! assert!(img.color.iter().all(|v| v.is_finite()) && img.color.iter().any(|&v| v > 0.0));
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+
+use anyhow::{bail, Context, Result};
+use runner::{Backend, Timing, TimingSource};
+use shader_core::pt::camera::{Camera, ORTHOGRAPHIC, PERSPECTIVE};
+use shader_core::pt::integrator::RenderParams;
+use shader_core::Vec3;
+use shader_kernels::render::{RenderArgs, OUT_STRIDE};
+
+/// The kernel's entry point.
+pub const ENTRY: &str = "render::pt_render";
+
+/// Everything a launch binds besides its parameters.
+pub struct RenderInputs<'a> {
+    /// Scene words (`shader_core::pt::scene`).
+    pub scene: &'a [u32],
+    /// Environment buffer (`shader_core::pt::environment`).
+    pub env: &'a [f32],
+    /// Energy LUT (`shader_core::energy`).
+    pub lut: &'a [f32],
+}
+
+/// One launch: samples `p.sample_base .. + p.spp` of every pixel. Returns `OUT_STRIDE` floats
+/// per pixel and the time.
+pub fn launch(backend: &Backend, inputs: &RenderInputs<'_>, p: &RenderParams) -> Result<(Vec<f32>, Timing)> {
+    let pixels = p.width as usize * p.height as usize;
+    let args = RenderArgs::new(p);
+    let bufs: [&[u8]; 3] = [bytemuck::cast_slice(inputs.scene), bytemuck::cast_slice(inputs.env), bytemuck::cast_slice(inputs.lut)];
+    backend.launch(ENTRY, args, &bufs, pixels, OUT_STRIDE, |a, i, out| {
+        let mut one = *a;
+        one.first_pixel = a.first_pixel + i;
+        shader_kernels::render::pixel(0, &one, inputs.scene, inputs.env, inputs.lut, out);
+    })
+}
+
+/// The running per-pixel sums of a progressive render.
+#[derive(Clone, Debug)]
+pub struct Accumulator {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Samples accumulated so far.
+    pub spp: u32,
+    /// `OUT_STRIDE` sums per pixel.
+    pub sums: Vec<f32>,
+}
+
+impl Accumulator {
+    /// Empty sums for a `width x height` image.
+    pub fn new(width: u32, height: u32) -> Accumulator {
+        Accumulator { width, height, spp: 0, sums: vec![0.0; width as usize * height as usize * OUT_STRIDE] }
+    }
+
+    /// Add one launch's output of `spp` samples.
+    pub fn add(&mut self, out: &[f32], spp: u32) {
+        assert_eq!(out.len(), self.sums.len(), "launch output size");
+        for (s, v) in self.sums.iter_mut().zip(out) {
+            *s += *v;
+        }
+        self.spp += spp;
+    }
+
+    /// The mean image so far.
+    pub fn image(&self) -> RenderImage {
+        let n = self.width as usize * self.height as usize;
+        let inv = if self.spp > 0 { 1.0 / self.spp as f32 } else { 0.0 };
+        let mut img = RenderImage {
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            color: Vec::with_capacity(3 * n),
+            albedo: Vec::with_capacity(3 * n),
+            normal: Vec::with_capacity(3 * n),
+            depth: Vec::with_capacity(n),
+            rays: 0.0,
+        };
+        for px in self.sums.chunks_exact(OUT_STRIDE) {
+            img.color.extend(px[0..3].iter().map(|v| v * inv));
+            img.albedo.extend(px[3..6].iter().map(|v| v * inv));
+            img.normal.extend(px[6..9].iter().map(|v| v * inv));
+            img.depth.push(px[9] * inv);
+            img.rays += px[10] as f64;
+        }
+        img
+    }
+}
+
+/// A rendered image: the mean over its samples of radiance and the first-hit AOVs
+/// (interleaved RGB / XYZ, top row first).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderImage {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    /// Linear radiance.
+    pub color: Vec<f32>,
+    /// First-hit base colour.
+    pub albedo: Vec<f32>,
+    /// First-hit world shading normal.
+    pub normal: Vec<f32>,
+    /// First-hit depth along the camera's forward axis (0 where no sample hit).
+    pub depth: Vec<f32>,
+    /// Rays traced (closest-hit + shadow).
+    pub rays: f64,
+}
+
+impl RenderImage {
+    /// FNV-1a 64 of every value's bits (colour, then the AOVs): equal digests mean identical
+    /// images.
+    pub fn digest(&self) -> u64 {
+        digest(self.color.iter().chain(&self.albedo).chain(&self.normal).chain(&self.depth))
+    }
+}
+
+/// FNV-1a 64 over the bits of `values`.
+pub fn digest<'a>(values: impl IntoIterator<Item = &'a f32>) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for v in values {
+        for b in v.to_bits().to_le_bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// Render `total_spp` samples per pixel in launches of at most `spp_per_pass`, calling
+/// `progress(samples done)` after each launch. Returns the image and the summed launch time.
+pub fn render(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, progress: impl FnMut(u32)) -> Result<(RenderImage, Timing)> {
+    render_until(backend, inputs, base, total_spp, spp_per_pass, progress, || false)
+}
+
+/// [`render`], stopping early when `stop()` is true after a launch (at least one launch runs, so
+/// the image holds samples): the image then holds the samples of the launches done
+/// ([`RenderImage::spp`] of them in every pixel).
+pub fn render_until(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, mut progress: impl FnMut(u32), stop: impl Fn() -> bool) -> Result<(RenderImage, Timing)> {
+    if total_spp == 0 || spp_per_pass == 0 {
+        bail!("spp and spp per pass must be at least 1");
+    }
+    let mut acc = Accumulator::new(base.width, base.height);
+    let mut time: Option<Timing> = None;
+    while acc.spp < total_spp && !(acc.spp > 0 && stop()) {
+        let n = (total_spp - acc.spp).min(spp_per_pass);
+        let p = RenderParams { spp: n, sample_base: base.sample_base + acc.spp, ..*base };
+        let (out, t) = launch(backend, inputs, &p).with_context(|| format!("render launch at sample {}", acc.spp))?;
+        acc.add(&out, n);
+        time = Some(match time { Some(a) => a + t, None => t });
+        progress(acc.spp);
+    }
+    Ok((acc.image(), time.unwrap_or(Timing { seconds: 0.0, source: TimingSource::WallClock })))
+}
+
+/// A camera description (glTF conventions: looks down `forward`, `up` is the image's top).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraSpec {
+    /// Eye position.
+    pub position: [f32; 3],
+    /// Viewing direction.
+    pub forward: [f32; 3],
+    /// Up direction (need not be orthogonal to `forward`).
+    pub up: [f32; 3],
+    /// `Some(yfov radians)` for perspective, `None` for orthographic.
+    pub yfov: Option<f32>,
+    /// Orthographic half extents (xmag, ymag).
+    pub mag: [f32; 2],
+}
+
+impl CameraSpec {
+    /// The kernel's camera for a `width x height` image (perspective: the image's aspect ratio
+    /// with the vertical field of view kept).
+    pub fn camera(&self, width: u32, height: u32) -> Result<Camera> {
+        let v = |a: [f32; 3]| Vec3::new(a[0], a[1], a[2]);
+        let f = v(self.forward);
+        if !(f.length() > 0.0) || !f.is_finite() {
+            bail!("camera forward direction {:?} is not a direction", self.forward);
+        }
+        let f = f.normalize();
+        let right = f.cross(v(self.up));
+        if !(right.length() > 1e-6) {
+            bail!("camera up {:?} is parallel to its forward direction {:?}", self.up, self.forward);
+        }
+        let right = right.normalize();
+        let up = right.cross(f);
+        let aspect = width as f32 / height as f32;
+        let (kind, sx, sy) = match self.yfov {
+            Some(y) => {
+                if !(y > 0.0 && y < std::f32::consts::PI) {
+                    bail!("camera yfov {y} rad: must be in (0, pi)");
+                }
+                let t = (y as f64 * 0.5).tan() as f32;
+                (PERSPECTIVE, t * aspect, t)
+            }
+            None => {
+                if !(self.mag[0] > 0.0 && self.mag[1] > 0.0) {
+                    bail!("orthographic camera xmag/ymag {:?}: must be positive", self.mag);
+                }
+                (ORTHOGRAPHIC, self.mag[1] * aspect, self.mag[1])
+            }
+        };
+        Ok(Camera { kind, origin: v(self.position), right, up, forward: f, scale_x: sx, scale_y: sy })
+    }
+
+    /// The spec of a scene camera.
+    pub fn from_desc(c: &scene::CameraDesc) -> CameraSpec {
+        let (yfov, mag) = match c.projection {
+            scene::Projection::Perspective { yfov, .. } => (Some(yfov), [1.0, 1.0]),
+            scene::Projection::Orthographic { xmag, ymag } => (None, [xmag, ymag]),
+        };
+        CameraSpec { position: c.position, forward: c.forward, up: c.up, yfov, mag }
+    }
+
+    /// A perspective camera framing `bounds` (its bounding sphere) from its +z side (yfov 40
+    /// degrees).
+    pub fn framing(bounds: &scene::Aabb) -> CameraSpec {
+        let (c, r) = bounds.bounding_sphere();
+        let yfov = 40f32.to_radians();
+        let d = r.max(1e-3) / (yfov * 0.5).sin();
+        CameraSpec { position: [c[0], c[1], c[2] + d], forward: [0.0, 0.0, -1.0], up: [0.0, 1.0, 0.0], yfov: Some(yfov), mag: [1.0, 1.0] }
+    }
+}
+
+/// Write the render as a linear EXR (R, G, B, albedo.R/G/B, normal.X/Y/Z, depth.Z).
+pub fn write_exr(path: &std::path::Path, img: &RenderImage) -> Result<()> {
+    let n = img.width as usize * img.height as usize;
+    let ch = |v: &[f32], k: usize, s: usize| -> Vec<f32> { (0..n).map(|i| v[s * i + k]).collect() };
+    let chans: Vec<(&str, Vec<f32>)> = vec![
+        ("R", ch(&img.color, 0, 3)),
+        ("G", ch(&img.color, 1, 3)),
+        ("B", ch(&img.color, 2, 3)),
+        ("albedo.R", ch(&img.albedo, 0, 3)),
+        ("albedo.G", ch(&img.albedo, 1, 3)),
+        ("albedo.B", ch(&img.albedo, 2, 3)),
+        ("normal.X", ch(&img.normal, 0, 3)),
+        ("normal.Y", ch(&img.normal, 1, 3)),
+        ("normal.Z", ch(&img.normal, 2, 3)),
+        ("depth.Z", img.depth.clone()),
+    ];
+    let refs: Vec<(&str, &[f32])> = chans.iter().map(|(n, v)| (*n, v.as_slice())).collect();
+    fileio::write_exr(path, img.width as usize, img.height as usize, &refs)
+}
