@@ -275,7 +275,8 @@ fn info(device: DeviceChoice, json: bool) -> Result<()> {
             host::div_sqrt_probe::run(g)?
         } else {
             let native = host::shaders::load_variant(host::shaders::DivSqrt::Native).map_err(anyhow::Error::msg)?;
-            host::div_sqrt_probe::run(&host::gpu::GpuContext::new(&native)?)?
+            let gpu = host::gpu::GpuContext::new(&native)?;
+            host::div_sqrt_probe::run(&gpu)?
         };
         text.push(match &p.first {
             None => format!("native build's OpFDiv/Sqrt on {}: correctly rounded on all {} probe rows", g.info.name, p.rows),

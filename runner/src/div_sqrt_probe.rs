@@ -11,7 +11,8 @@
 //! driver also known to lower these instructions to the CPU's IEEE instructions (llvmpipe), and
 //! the cross-check suite, which CI runs with both builds, is the proof there.
 
-use crate::gpu::{groups_2d, GpuContext, GpuError, OutputSpec};
+use crate::device::{groups_2d, GpuDevice, OutputSpec};
+use crate::gpu_error::GpuError;
 use shader_kernels::eval::EvalArgs;
 
 /// Where the adapter and the CPU differ.
@@ -101,14 +102,14 @@ fn expected(a: f32, b: f32) -> [f32; 6] {
 }
 
 /// Run the probe on `gpu`'s loaded main module.
-pub fn run(gpu: &GpuContext) -> Result<ProbeReport, GpuError> {
+pub fn run(gpu: &GpuDevice) -> Result<ProbeReport, GpuError> {
     let input = probe_rows();
     let got = run_rows(gpu, &input)?;
     Ok(compare(&input, &got))
 }
 
 /// `arith_probe`'s six outputs per row for the (a, b) pairs `input` (flattened), on `gpu`.
-pub fn run_rows(gpu: &GpuContext, input: &[f32]) -> Result<Vec<f32>, GpuError> {
+pub fn run_rows(gpu: &GpuDevice, input: &[f32]) -> Result<Vec<f32>, GpuError> {
     let f = shader_kernels::eval::find("arith_probe").expect("arith_probe is registered");
     let rows = input.len() / 2;
     let wg = shader_kernels::WORKGROUP_SIZE as usize;

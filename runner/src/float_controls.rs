@@ -208,7 +208,7 @@ pub fn classify(input: &[f32], got: &[f32]) -> Result<DenormPolicy, String> {
 
 /// Run the denormal probe (`arith_probe` of the loaded main module over [`denormal_rows`]) and
 /// say what the adapter does; an error describes the first row that fits neither behaviour.
-pub fn measure(gpu: &crate::gpu::GpuContext) -> Result<Result<DenormPolicy, String>, crate::gpu::GpuError> {
+pub fn measure(gpu: &crate::device::GpuDevice) -> Result<Result<DenormPolicy, String>, crate::gpu_error::GpuError> {
     let input = denormal_rows();
     let got = crate::div_sqrt_probe::run_rows(gpu, &input)?;
     Ok(classify(&input, &got))

@@ -2,10 +2,12 @@
 //! ([`shader_manifest::entry_point`]): a driver reads the whole module it is given for every
 //! pipeline, so the first use of an entry point costs that entry point's code, not the 45 MB
 //! of every kernel. `HOST_WHOLE_MODULE=1` hands the whole module over instead (one driver module,
-//! as before), to measure the difference (docs/kernels.md, "Per-entry-point modules").
+//! as before), to measure the difference (docs/kernels.md, "Per-entry-point modules"). Each driver
+//! module is created by [`spirv_module`] (passed through unchanged, or translated by naga).
 
-use crate::gpu::{spirv_module, GpuError};
+use crate::gpu_error::GpuError;
 use shader_manifest::entry_point::EntryPoints;
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::sync::Mutex;
 
@@ -113,6 +115,45 @@ impl KernelModule {
         }
         Ok((m, set > 0))
     }
+}
+
+/// Run `create` inside a validation error scope; its error names `label`.
+pub(crate) fn validated(device: &wgpu::Device, label: &str, create: impl FnOnce() -> wgpu::ShaderModule) -> Result<wgpu::ShaderModule, GpuError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let m = create();
+    match pollster::block_on(scope.pop()) {
+        Some(err) => Err(GpuError::Shader(format!("{label}: {err}"))),
+        None => Ok(m),
+    }
+}
+
+/// A SPIR-V module with compute entry points `entries` (workgroup size
+/// [`shader_kernels::WORKGROUP_SIZE`] in x): handed to the driver unchanged with `passthrough`,
+/// else translated by naga.
+///
+/// # Safety
+/// With `passthrough` the words reach the driver unvalidated: they must be a valid SPIR-V
+/// compute module whose bindings are storage buffers in the order the dispatches bind them.
+pub(crate) unsafe fn spirv_module(device: &wgpu::Device, label: &str, words: &[u32], entries: &[String], passthrough: bool) -> Result<wgpu::ShaderModule, GpuError> {
+    validated(device, label, || {
+        if passthrough {
+            let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = entries
+                .iter()
+                .map(|name| wgpu::PassthroughShaderEntryPoint { name: Cow::Owned(name.clone()), workgroup_size: (shader_kernels::WORKGROUP_SIZE, 1, 1) })
+                .collect();
+            // SAFETY: the caller's contract (see above).
+            unsafe {
+                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                    label: Some(label),
+                    entry_points: Cow::Owned(entry_points),
+                    spirv: Some(Cow::Borrowed(words)),
+                    ..Default::default()
+                })
+            }
+        } else {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::SpirV(Cow::Borrowed(words)) })
+        }
+    })
 }
 
 #[cfg(test)]

@@ -18,9 +18,11 @@
 
 pub mod backend;
 pub mod cpu;
+mod device;
 pub mod div_sqrt_probe;
 pub mod float_controls;
 pub mod gpu;
+mod gpu_error;
 mod kernel_module;
 pub mod shaders;
 pub mod timing;

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+mod import_cycles;
 mod lavapipe;
 mod mutants;
 mod repo_paths;
@@ -97,6 +98,11 @@ enum Cmd {
     /// it (xtask/src/repo_paths.rs says the rules): a fresh clone has nothing beside it. Also run
     /// by `cargo test -p xtask`.
     CheckPaths,
+    /// Fail if the source files of a workspace crate import each other in a circle (a `use` or an
+    /// inline `crate::`/`super::`/`self::` path from one file to another, directly or through
+    /// others; xtask/src/import_cycles.rs says the rules). Prints each circle's files, with the
+    /// names imported along its edges.
+    CheckCycles,
     /// Pack the real-GPU check for a machine without a Rust toolchain into .gpu-bundle/ (ignored
     /// by git): the host binary and the CPU-vs-GPU test binaries, stripped and xz-compressed, the
     /// Cornell box the tests read, and `run.sh` (xtask/gpu-run.sh), which runs the tests
@@ -143,6 +149,17 @@ fn main() -> Result<()> {
                 bail!("{} path(s) outside the repository: a fresh clone has nothing beside it", found.len());
             }
             eprintln!("[check-paths] no path outside the repository");
+            Ok(())
+        }
+        Cmd::CheckCycles => {
+            let cycles = import_cycles::scan_workspace(&workspace_root()).map_err(anyhow::Error::msg)?;
+            for c in &cycles {
+                eprint!("{c}");
+            }
+            if !cycles.is_empty() {
+                bail!("{} import circle(s): move what the files share into a module below them", cycles.len());
+            }
+            eprintln!("[check-cycles] no import circle in any workspace crate");
             Ok(())
         }
     }
