@@ -12,7 +12,7 @@
 //! let r = ssr::run_hdrp(&runner::Backend::Cpu, &gb, &settings, ssr::TraceMode::HiZ, ssr::HdrpResolve::Approx)?;
 //! assert_eq!(r.reflection.len(), 4 * 48 * 32);
 //! assert!(r.reflection.chunks_exact(4).any(|px| px[3] > 0.0), "something reflects");
-//! let reference = ssr::render_reference(&scene, &gb, settings.max_roughness, 4);
+//! let reference = ssr::render_reference(&scene, &gb, 1.0 - settings.min_smoothness, 4);
 //! assert_eq!(reference.all.len(), 3 * 48 * 32);
 //! # Ok::<(), anyhow::Error>(())
 //! ```

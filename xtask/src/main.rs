@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+mod feature_deps;
 mod import_cycles;
 mod lavapipe;
 mod mutants;
@@ -103,6 +104,10 @@ enum Cmd {
     /// others; xtask/src/import_cycles.rs says the rules). Prints each circle's files, with the
     /// names imported along its edges.
     CheckCycles,
+    /// Fail if a feature crate below the CLI (fileio, scene, render, ssr, energy, eval, runner)
+    /// depends on clap, plotters, indicatif or image at any depth, or has no doc example in its
+    /// crate documentation (xtask/src/feature_deps.rs).
+    CheckDeps,
     /// Pack the real-GPU check for a machine without a Rust toolchain into .gpu-bundle/ (ignored
     /// by git): the host binary and the CPU-vs-GPU test binaries, stripped and xz-compressed, the
     /// Cornell box the tests read, and `run.sh` (xtask/gpu-run.sh), which runs the tests
@@ -151,6 +156,7 @@ fn main() -> Result<()> {
             eprintln!("[check-paths] no path outside the repository");
             Ok(())
         }
+        Cmd::CheckDeps => feature_deps::check(&workspace_root()),
         Cmd::CheckCycles => {
             let cycles = import_cycles::scan_workspace(&workspace_root()).map_err(anyhow::Error::msg)?;
             for c in &cycles {
