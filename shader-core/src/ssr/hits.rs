@@ -3,7 +3,7 @@
 //! the direction to that hit, the hit's previous-frame UV and edge fade, its
 //! filtered-importance-sampling cone and the colour at the hit (mip 0, or with `FLAG_RAY_COLOR`
 //! at the ray's own cone footprint) depend on the ray alone,
-//! so one pass computes them once per ray ([`super::resolve::HIT_STRIDE`] layout) and the
+//! so one pass computes them once per ray ([`super::layout::HIT_STRIDE`] layout) and the
 //! resolves, which visit every ray from up to nine pixels, read them.
 //!
 //! The values are the very functions the resolves called per (pixel, ray) pair before, on the same
@@ -11,9 +11,11 @@
 //! resolve's mip clamps to 0, `super::resolve::hit_color`).
 
 use super::params::{SsrParams, FLAG_FIS};
-use super::resolve::{edge_of_screen_fade, hit_colors_stored, hit_footprints_stored, hit_position, load_ray_hit, reproject_hit, sample_color, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_TAN_HALF, HIT_UV};
-use super::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_pdf_at_hit, MIRROR_ROUGHNESS};
-use super::trace::{load_surface, RAY_PDF, RAY_STRIDE};
+use super::layout::{HIT_COLOR, HIT_FADE, HIT_PDF, HIT_TAN_HALF, HIT_UV, RAY_PDF, RAY_STRIDE};
+use super::resolve::{edge_of_screen_fade, hit_colors_stored, hit_footprints_stored, hit_position, load_ray_hit, reproject_hit, sample_color};
+use super::sampling::MIRROR_ROUGHNESS;
+use super::stochastic::{fis_mip, fis_rays_in_window, fis_tan_half, ray_pdf_at_hit};
+use super::trace::load_surface;
 use crate::buffer::{load, store};
 
 /// Write the hit record of ray slot `slot` (pixel `slot / samples_per_pixel`, in the ray records'

@@ -16,17 +16,14 @@
 
 use crate::ieee;
 use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_FIS, FLAG_RAY_COLOR};
-use super::trace::{clampf, load_surface, view_position, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
-use super::trace::info;
+use super::compare::clampf;
+use super::layout::{info, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
+pub use super::layout::{COLOR_STRIDE, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV, OUT_STRIDE};
+use super::trace::{load_surface, view_position};
 use crate::buffer::{load, load2, load3, load4, load8};
 use crate::masking;
 use crate::vector::Vec3;
 use spirv_std::num_traits::Float;
-
-/// Floats per output texel of a resolve: r, g, b (premultiplied), opacity.
-pub const OUT_STRIDE: usize = 4;
-/// Floats per colour texel: r, g, b.
-pub const COLOR_STRIDE: usize = 3;
 
 /// HDRP `Remap10(x, rcpLength, endTimesRcpLength)` = saturate(end*rcp - x*rcp): 1 below the fade
 /// start, 0 past its end.
@@ -258,27 +255,6 @@ pub fn load_ray(rays: &[f32], b: usize) -> RayRecord {
     let bits = info_bits.to_bits();
     RayRecord { valid: bits & info::VALID != 0, hit: bits & info::HIT != 0, hx, hy, pdf, dir: Vec3::new(dx, dy, dz) }
 }
-
-/// Floats per hit record (written by [`super::hits`], one per ray slot, in the ray records'
-/// order): hit position (view space) x y z, the generating pixel's density at the direction to
-/// it ([`HIT_PDF`]), previous-frame u v of the hit ([`HIT_UV`]), its edge-of-screen fade
-/// ([`HIT_FADE`]), the filtered-importance-sampling cone's half-angle tangent ([`HIT_TAN_HALF`])
-/// and the colour pyramid's sample at (u, v), r g b ([`HIT_COLOR`], where [`hit_colors_stored`]:
-/// at mip 0, or with [`FLAG_RAY_COLOR`] at the ray's own footprint). Only slots whose ray hit
-/// are written, their UV and cone only where a resolve reads them ([`hit_footprints_stored`]);
-/// the rest stay zero.
-pub const HIT_STRIDE: usize = 11;
-/// Offset of the pdf in a hit record (after the position).
-pub const HIT_PDF: usize = 3;
-/// Offset of the previous-frame (u, v) in a hit record.
-pub const HIT_UV: usize = 4;
-/// Offset of the edge-of-screen fade in a hit record.
-pub const HIT_FADE: usize = 6;
-/// Offset of the cone's half-angle tangent in a hit record.
-pub const HIT_TAN_HALF: usize = 7;
-/// Offset of the colour (r, g, b) in a hit record: [`sample_color`] at (u, v), at mip 0 or, with
-/// [`FLAG_RAY_COLOR`], at the mip of the ray's footprint seen from its own pixel.
-pub const HIT_COLOR: usize = 8;
 
 /// Hit position and pdf of the hit record at `hits[b..]` (the part every resolve weight needs;
 /// zeros past the end).

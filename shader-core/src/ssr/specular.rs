@@ -10,8 +10,9 @@
 //! assert_eq!(metal_rough_f0(0.9, 1.0), 0.9);
 //! ```
 
+use super::layout::GBUF_STRIDE;
 use super::params::SsrParams;
-use super::trace::{load_surface, GBUF_STRIDE};
+use super::trace::load_surface;
 use crate::buffer::{load, load4, store};
 use crate::energy::{lut_e_and_e_prime, schlick_albedo, DIELECTRIC_F0};
 use crate::vector::Vec3;

@@ -32,35 +32,13 @@ use crate::buffer::{load, store};
 use crate::ieee;
 use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_BACKFACE_REJECT, FLAG_STOCHASTIC};
 use crate::vector::Vec3;
-
-/// Floats per G-buffer texel: depth, normal (world) x y z, perceptual roughness, metalness,
-/// motion x y (UV units).
-pub const GBUF_STRIDE: usize = 8;
-/// Floats per ray record: hit x, hit y (pixel centre, screen units; -1 on a miss), hit device
-/// depth, info bits (see [`info`]), ray pdf (solid angle; 0 for mirror rays), ray direction
-/// (view space) x y z.
-pub const RAY_STRIDE: usize = 8;
-/// Offset of the info bits in a ray record.
-pub const RAY_INFO: usize = 3;
-/// Offset of the pdf in a ray record (the direction x y z follows it).
-pub const RAY_PDF: usize = 4;
+pub use super::compare::{clampf, floor_index, maxf, minf};
+pub use super::layout::{info, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
 
 /// HDRP's `SSR_TRACE_EPS`: how far a position is nudged past a cell edge along the ray (2^-11 px).
 pub const TRACE_EPS: f32 = 0.000_488_281_25;
 /// HDRP's ray-towards-sky cut-off: the device depth the ray is clipped at when moving away.
 pub const SKY_DEPTH_CUT: f32 = 0.000_000_238_418_58;
-
-/// Packing of the info word of a ray record.
-pub mod info {
-    /// A ray was traced for this record.
-    pub const VALID: u32 = 1;
-    /// It found a hit (after validation).
-    pub const HIT: u32 = 2;
-    /// The hit was rejected by validation (back face or self hit).
-    pub const REJECTED: u32 = 4;
-    /// Steps (tracer iterations) are stored from this bit up.
-    pub const STEPS_SHIFT: u32 = 8;
-}
 
 /// The outcome of one trace.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -75,72 +53,6 @@ pub struct TraceHit {
     pub d: f32,
     /// Iterations of the tracer's loop.
     pub steps: u32,
-}
-
-/// A shaded pixel of the G-buffer in view space.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Surface {
-    /// False for sky, invalid depth or normal, back-facing normals and pixels rougher than the cut-off.
-    pub valid: bool,
-    /// View-space position of the pixel's surface.
-    pub pos: Vec3,
-    /// Unit normal (view space).
-    pub n: Vec3,
-    /// Unit direction to the eye (view space).
-    pub v: Vec3,
-    /// Perceptual roughness of the surface, in [0, 1].
-    pub perceptual_roughness: f32,
-    /// Screen position of the pixel centre and its device depth.
-    pub origin: Vec3,
-}
-
-/// `a < b ? a : b` (a NaN in `a` selects `b`), written with a comparison so both backends agree.
-#[inline]
-pub fn minf(a: f32, b: f32) -> f32 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
-/// `a > b ? a : b` (a NaN in `a` selects `b`).
-#[inline]
-pub fn maxf(a: f32, b: f32) -> f32 {
-    if a > b {
-        a
-    } else {
-        b
-    }
-}
-
-/// Clamp to [lo, hi]; NaN maps to `lo`.
-#[inline]
-pub fn clampf(x: f32, lo: f32, hi: f32) -> f32 {
-    if x >= lo {
-        if x <= hi {
-            x
-        } else {
-            hi
-        }
-    } else {
-        lo
-    }
-}
-
-/// floor(x) for x in [0, hi] as an integer, clamped to [0, hi] (NaN and negatives give 0).
-#[inline]
-pub fn floor_index(x: f32, hi: u32) -> u32 {
-    if x >= 0.0 {
-        let hf = hi as f32;
-        if x < hf {
-            x as u32
-        } else {
-            hi
-        }
-    } else {
-        0
-    }
 }
 
 /// Device depth d = near / z of a linear depth z (0 for the sky, z = +inf).
@@ -562,7 +474,7 @@ pub fn hdrp_trace_pixel(p: &SsrParams, gbuf: &[f32], pyr: &[f32], x: u32, y: u32
         return;
     }
     let (r, pdf) = if p.flags & FLAG_STOCHASTIC != 0 {
-        super::stochastic::sample_ray(p, &s, x, y, 0)
+        super::sampling::sample_ray(p, &s, x, y, 0)
     } else {
         (reflect(s.v, s.n), 0.0)
     };
