@@ -1,5 +1,6 @@
-//! Host side of the shading library: the features (eval, grid, energy, ssr), benchmarks and the
-//! `host` CLI on top of the `runner` launchers, and file I/O.
+//! The `host` CLI's library: commands, the `host bench <feature>` tree, plots, PNG previews and
+//! reports on top of the feature crates (`scene`, `render`, `ssr`, `energy`, `eval`, `fileio`),
+//! which it re-exports under their old paths (`host::render::scene`, `host::ssr`, ...).
 
 pub mod cli_args;
 // The launchers live in the `runner` crate (usable without the CLI's dependencies); re-exported
