@@ -409,10 +409,7 @@ fn chunked_sums<A: TableKernel>(
     let chunks = samples.div_ceil(chunk);
     let per_launch = (invocations / cells).max(1).min(chunks as usize) as u32;
     let stride = A::STRIDE;
-    let mut total: Option<Timing> = None;
-    let mut k = 0;
-    while k < chunks {
-        let n = per_launch.min(chunks - k);
+    let (_, total) = runner::in_launches(chunks, per_launch, || false, |k, n| {
         let s = kern::SampleChunks { start: k * chunk, chunk, end: samples };
         let a = args(s);
         let (out, t) = backend
@@ -423,11 +420,10 @@ fn chunked_sums<A: TableKernel>(
                 add(per_chunk, c);
             }
         }
-        total = Some(match total { Some(x) => x + t, None => t });
-        k += n;
         progress(u64::from(n));
-    }
-    Ok(total.expect("at least one chunk"))
+        Ok(t)
+    })?;
+    Ok(total)
 }
 
 /// Compensation modes of the furnace.

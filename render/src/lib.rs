@@ -23,7 +23,7 @@
 //! ```
 
 use anyhow::{bail, Context, Result};
-use runner::{Backend, Timing, TimingSource};
+use runner::{Backend, Timing};
 use shader_core::pt::camera::{Camera, ORTHOGRAPHIC, PERSPECTIVE};
 use shader_core::pt::integrator::RenderParams;
 use shader_core::Vec3;
@@ -161,16 +161,14 @@ pub fn render_until(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderP
         bail!("spp and spp per pass must be at least 1");
     }
     let mut acc = Accumulator::new(base.width, base.height);
-    let mut time: Option<Timing> = None;
-    while acc.spp < total_spp && !(acc.spp > 0 && stop()) {
-        let n = (total_spp - acc.spp).min(spp_per_pass);
-        let p = RenderParams { spp: n, sample_base: base.sample_base + acc.spp, ..*base };
-        let (out, t) = launch(backend, inputs, &p).with_context(|| format!("render launch at sample {}", acc.spp))?;
+    let (_, time) = runner::in_launches(total_spp, spp_per_pass, stop, |first, n| {
+        let p = RenderParams { spp: n, sample_base: base.sample_base + first, ..*base };
+        let (out, t) = launch(backend, inputs, &p).with_context(|| format!("render launch at sample {first}"))?;
         acc.add(&out, n);
-        time = Some(match time { Some(a) => a + t, None => t });
         progress(acc.spp);
-    }
-    Ok((acc.image(), time.unwrap_or(Timing { seconds: 0.0, source: TimingSource::WallClock })))
+        Ok(t)
+    })?;
+    Ok((acc.image(), time))
 }
 
 /// A camera description (glTF conventions: looks down `forward`, `up` is the image's top).

@@ -24,8 +24,10 @@ pub mod float_controls;
 pub mod gpu;
 mod gpu_error;
 mod kernel_module;
+pub mod launches;
 pub mod shaders;
 pub mod timing;
 
 pub use backend::{Backend, DeviceChoice, LaunchArgs};
+pub use launches::in_launches;
 pub use timing::{Timing, TimingSource};

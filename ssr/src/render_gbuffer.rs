@@ -19,7 +19,7 @@ use crate::camera::Camera as SsrCamera;
 use crate::gbuffer::{GBuffer, ReferenceFile};
 use crate::reference::Reference;
 use anyhow::{bail, Context, Result};
-use runner::{Backend, Timing, TimingSource};
+use runner::{Backend, Timing};
 use std::path::{Path, PathBuf};
 use shader_core::pt::camera::{Camera, ORTHOGRAPHIC};
 use shader_core::pt::gbuffer::GBufferParams;
@@ -63,10 +63,7 @@ pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBuff
         bail!("reference samples per pass must be at least 1");
     }
     let mut sums: Option<Vec<f32>> = None;
-    let mut time: Option<Timing> = None;
-    let mut done = 0;
-    while sums.is_none() || done < samples {
-        let n = (samples - done).min(per_pass);
+    let (_, time) = runner::in_launches(samples, per_pass, || false, |done, n| {
         let mut p = *base;
         p.render.spp = n;
         p.render.sample_base = base.render.sample_base + done;
@@ -81,12 +78,11 @@ pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBuff
                 }
             }
         }
-        time = Some(match time { Some(a) => a + t, None => t });
-        done += n;
-        progress(done);
-    }
+        progress(done + n);
+        Ok(t)
+    })?;
     let values = sums.expect("at least one launch");
-    Ok((GBufferSums { width: base.render.width, height: base.render.height, samples, values }, time.unwrap_or(Timing { seconds: 0.0, source: TimingSource::WallClock })))
+    Ok((GBufferSums { width: base.render.width, height: base.render.height, samples, values }, time))
 }
 
 /// A glTF-world vector in the G-buffer's (x-mirrored) world.
