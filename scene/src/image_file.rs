@@ -41,23 +41,20 @@ const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 /// Decode a PNG or JPEG held in memory to RGBA8.
 pub fn decode_rgba8(bytes: &[u8]) -> Result<Rgba8> {
     let d = decode_ldr(bytes)?;
-    let n = d.width as usize * d.height as usize;
-    let mut rgba = Vec::with_capacity(4 * n);
-    let c = d.channels;
-    let push = |rgba: &mut Vec<u8>, px: &[u8]| match c {
-        1 => rgba.extend_from_slice(&[px[0], px[0], px[0], 255]),
-        2 => rgba.extend_from_slice(&[px[0], px[0], px[0], px[1]]),
-        3 => rgba.extend_from_slice(&[px[0], px[1], px[2], 255]),
-        _ => rgba.extend_from_slice(&px[..4]),
-    };
-    match &d.samples {
-        Samples::U8(v) => v.chunks_exact(c).for_each(|px| push(&mut rgba, px)),
-        Samples::U16(v) => v.chunks_exact(c).for_each(|px| {
-            let px8: Vec<u8> = px.iter().map(|&s| ((s as u32 + 128) / 257) as u8).collect();
-            push(&mut rgba, &px8)
-        }),
+    let samples = match d.samples {
+        Samples::U8(v) => v,
+        Samples::U16(v) => v.iter().map(|&s| ((s as u32 + 128) / 257) as u8).collect(),
         Samples::F32(_) => unreachable!("PNG and JPEG decode to integers"),
-    }
+    };
+    let rgba = samples
+        .chunks_exact(d.channels)
+        .flat_map(|px| match d.channels {
+            1 => [px[0], px[0], px[0], 255],
+            2 => [px[0], px[0], px[0], px[1]],
+            3 => [px[0], px[1], px[2], 255],
+            _ => [px[0], px[1], px[2], px[3]],
+        })
+        .collect();
     Ok(Rgba8 { width: d.width, height: d.height, rgba })
 }
 
@@ -66,18 +63,18 @@ pub fn decode_rgba8(bytes: &[u8]) -> Result<Rgba8> {
 pub fn read_rgb_f32(path: &Path) -> Result<(u32, u32, Vec<f32>)> {
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     let d = if bytes.starts_with(b"#?") { decode_rgbe(&bytes) } else { decode_ldr(&bytes) }.with_context(|| format!("decoding {}", path.display()))?;
-    let c = d.channels;
-    let rgb_of = |px: &[f32]| -> [f32; 3] {
-        match c {
+    let values: Vec<f32> = match d.samples {
+        Samples::U8(v) => v.iter().map(|&s| s as f32 / 255.0).collect(),
+        Samples::U16(v) => v.iter().map(|&s| s as f32 / 65535.0).collect(),
+        Samples::F32(v) => v,
+    };
+    let rgb = values
+        .chunks_exact(d.channels)
+        .flat_map(|px| match d.channels {
             1 | 2 => [px[0]; 3],
             _ => [px[0], px[1], px[2]],
-        }
-    };
-    let rgb: Vec<f32> = match &d.samples {
-        Samples::U8(v) => v.chunks_exact(c).flat_map(|px| rgb_of(&px.iter().map(|&s| s as f32 / 255.0).collect::<Vec<_>>())).collect(),
-        Samples::U16(v) => v.chunks_exact(c).flat_map(|px| rgb_of(&px.iter().map(|&s| s as f32 / 65535.0).collect::<Vec<_>>())).collect(),
-        Samples::F32(v) => v.chunks_exact(c).flat_map(rgb_of).collect(),
-    };
+        })
+        .collect();
     Ok((d.width, d.height, rgb))
 }
 
