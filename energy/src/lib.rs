@@ -16,7 +16,8 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-use runner::{Backend, Timing};
+use runner::{Backend, Launch, Timing};
+use shader_kernels::launch::ItemFn;
 use anyhow::{bail, Context, Result};
 use shader_core::energy as core_energy;
 use shader_kernels::energy as kern;
@@ -334,7 +335,7 @@ fn precompute_in_launches_of(backend: &Backend, spec: &TableSpec, progress: Prog
     let cells = spec.n_mu as usize * spec.n_r as usize;
     let (mut sum_e, mut sum_ep) = (vec![0.0f64; cells], vec![0.0f64; cells]);
     let table = |s: kern::SampleChunks| kern::AlbedoTableArgs { n_mu: spec.n_mu, n_r: spec.n_r, s, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
-    let t_table = chunked_sums(backend, table, cells, spec.samples, spec.chunk, invocations, &report, |out, c| {
+    let t_table = chunked_sums(backend, &kern::ALBEDO_TABLE, kern::TABLE_STRIDE, table, cells, spec.samples, spec.chunk, invocations, &report, |out, c| {
         sum_e[c] += f64::from(out[kern::TABLE_STRIDE * c]);
         sum_ep[c] += f64::from(out[kern::TABLE_STRIDE * c + 1]);
     })
@@ -344,7 +345,7 @@ fn precompute_in_launches_of(backend: &Backend, spec: &TableSpec, progress: Prog
     let n_avg = spec.n_avg as usize;
     let mut sum_avg = vec![0.0f64; n_avg];
     let avg = |s: kern::SampleChunks| kern::AlbedoAvgArgs { n_avg: spec.n_avg, s, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
-    let t_avg = chunked_sums(backend, avg, n_avg, spec.avg_samples, spec.chunk, invocations, &report, |out, c| sum_avg[c] += f64::from(out[c]))
+    let t_avg = chunked_sums(backend, &kern::ALBEDO_AVG, 1, avg, n_avg, spec.avg_samples, spec.chunk, invocations, &report, |out, c| sum_avg[c] += f64::from(out[c]))
         .context("E_avg")?;
     let ns = f64::from(spec.samples);
     let na = f64::from(spec.avg_samples);
@@ -367,37 +368,14 @@ fn precompute_in_launches_of(backend: &Backend, spec: &TableSpec, progress: Prog
 /// invocations) leaves idle; several launches keep the progress bar moving on long precomputes.
 const TABLE_INVOCATIONS_PER_LAUNCH: usize = 1 << 16;
 
-/// A table kernel's launch record: its entry point, outputs per item, and the CPU launcher's call
-/// of its per-invocation function for one item.
-trait TableKernel: runner::LaunchArgs {
-    const ENTRY: &'static str;
-    const STRIDE: usize;
-    /// Item `first + i` into `out` (its `STRIDE` values).
-    fn cpu_item(&self, i: u32, out: &mut [f32]);
-}
-
-impl TableKernel for kern::AlbedoTableArgs {
-    const ENTRY: &'static str = "energy::energy_albedo_table";
-    const STRIDE: usize = kern::TABLE_STRIDE;
-    fn cpu_item(&self, i: u32, out: &mut [f32]) {
-        kern::albedo_table_cell(0, &kern::AlbedoTableArgs { first: self.first + i, ..*self }, out)
-    }
-}
-
-impl TableKernel for kern::AlbedoAvgArgs {
-    const ENTRY: &'static str = "energy::energy_albedo_avg";
-    const STRIDE: usize = 1;
-    fn cpu_item(&self, i: u32, out: &mut [f32]) {
-        kern::albedo_avg_cell(0, &kern::AlbedoAvgArgs { first: self.first + i, ..*self }, out)
-    }
-}
-
 /// Run a table kernel over `samples` samples of `cells` cells in chunks of `chunk` samples, as
 /// few launches of whole chunks as `invocations` per launch allows, and call
 /// `add(chunk_output, cell)` for every chunk in sample order and every cell (the output of one
 /// chunk: the kernel's `out` for that chunk's items). Returns the summed launch time.
-fn chunked_sums<A: TableKernel>(
+fn chunked_sums<A: runner::LaunchArgs>(
     backend: &Backend,
+    kernel: &runner::Kernel<ItemFn<A>>,
+    stride: usize,
     args: impl Fn(kern::SampleChunks) -> A,
     cells: usize,
     samples: u32,
@@ -408,12 +386,11 @@ fn chunked_sums<A: TableKernel>(
 ) -> Result<Timing> {
     let chunks = samples.div_ceil(chunk);
     let per_launch = (invocations / cells).max(1).min(chunks as usize) as u32;
-    let stride = A::STRIDE;
     let (_, total) = runner::in_launches(chunks, per_launch, || false, |k, n| {
         let s = kern::SampleChunks { start: k * chunk, chunk, end: samples };
         let a = args(s);
         let (out, t) = backend
-            .launch(A::ENTRY, a, &[], cells * n as usize, stride, |a, i, out| a.cpu_item(i, out))
+            .run(kernel, Launch::new(a, &[]), cells * n as usize, stride)
             .with_context(|| format!("samples {}..{}", s.start, (u64::from(s.start) + u64::from(n) * u64::from(chunk)).min(u64::from(samples))))?;
         for per_chunk in out.chunks_exact(cells * stride) {
             for c in 0..cells {
@@ -495,9 +472,7 @@ impl FurnaceConfig {
             ..Default::default()
         };
         let n = (width * height) as usize;
-        backend.launch("energy::energy_furnace", args, &[bytemuck::cast_slice(lut)], n, kern::FURNACE_STRIDE, |a, i, out| {
-            kern::furnace_pixel(0, &kern::FurnaceArgs { first: a.first + i, ..*a }, lut, out)
-        })
+        backend.run(&kern::FURNACE, Launch::new(args, &[bytemuck::cast_slice(lut)]), n, kern::FURNACE_STRIDE)
     }
 }
 

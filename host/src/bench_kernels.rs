@@ -338,12 +338,9 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
     let load_start = load_average();
     let (cpu, gpu) = Backend::bench_pair(a.device)?;
     // Both builds of the main module on the same adapter: the exact one and the native.
-    let default_build = match &gpu {
-        Some(Backend::Gpu(g)) => Some((if g.div_sqrt == DivSqrt::Native { "native" } else { "exact" }.to_string(), g.div_sqrt_why.clone())),
-        _ => None,
-    };
-    let (gpu, native) = match gpu {
-        Some(Backend::Gpu(g)) => {
+    let default_build = gpu.as_ref().and_then(|b| b.gpu()).map(|g| (if g.div_sqrt == DivSqrt::Native { "native" } else { "exact" }.to_string(), g.div_sqrt_why.clone()));
+    let (gpu, native) = match gpu.and_then(Backend::into_gpu) {
+        Some(g) => {
             // The build `HOST_DIV_SQRT` selected is already loaded: load only the other one.
             let other = |v: DivSqrt| -> Result<Box<GpuContext>> {
                 let m = crate::shaders::load_variant(v).map_err(anyhow::Error::msg)?;
@@ -353,9 +350,9 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
                 DivSqrt::Exact => (g, other(DivSqrt::Native)?),
                 DivSqrt::Native => (other(DivSqrt::Exact)?, g),
             };
-            (Some(Backend::Gpu(exact)), Some(Backend::Gpu(native)))
+            (Some(Backend::from(exact)), Some(Backend::from(native)))
         }
-        other => (other, None),
+        None => (None, None),
     };
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().context("creating a one-thread pool")?;
     let rows = a.rows as usize;
@@ -399,14 +396,14 @@ pub fn run(a: &KernelsArgs) -> Result<()> {
         pb.set_message(f.name);
         let input = bench_inputs(f, rows);
         let mut row = KernelRow::cpu_only(f.name, f.group, f.entry, time_cpu_scaling(&cpu, &one_thread, f, &input, rows, a.repeats)?);
-        if let Some(Backend::Gpu(g)) = &gpu {
+        if let Some(g) = gpu.as_ref().and_then(|b| b.gpu()) {
             row.gpu_compile_seconds = Some(g.prepare(f.entry, 2, 1)?);
             let backend = gpu.as_ref().expect("GPU backend");
             let (r, m, src) = time_eval(backend, f, &input, rows, a.repeats, &|| {}).with_context(|| format!("timing {} on the GPU", f.name))?;
             row.gpu_rate = Some(r);
             row.gpu_median_rate = Some(m);
             row.gpu_timing = Some(src);
-            if let Some(Backend::Gpu(n)) = &native {
+            if let Some(n) = native.as_ref().and_then(|b| b.gpu()) {
                 row.gpu_native_compile_seconds = Some(n.prepare(f.entry, 2, 1)?);
                 let (nr, _, _) = time_eval(native.as_ref().expect("native"), f, &input, rows, a.repeats, &|| {}).with_context(|| format!("timing {} (native module)", f.name))?;
                 row.gpu_native_rate = Some(nr);

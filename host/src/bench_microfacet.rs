@@ -400,7 +400,7 @@ pub fn run(a: &MicrofacetArgs) -> Result<()> {
                 m.gpu_evals_per_s = Some(r);
                 m.gpu_median_per_s = Some(rm);
                 m.gpu_timing = Some(src);
-                if let (Backend::Gpu(gc), Some(entry)) = (g, crate::bench_kernels::wgsl_entry(f.name)) {
+                if let (Some(gc), Some(entry)) = (g.gpu(), crate::bench_kernels::wgsl_entry(f.name)) {
                     let pr = crate::bench_kernels::time_paired(g, gc, entry, f, &table, a.rows, a.repeats as u32)?;
                     m.wgsl_evals_per_s = Some(pr.wgsl);
                     m.rust_gpu_over_wgsl = Some(pr.ratio);
@@ -468,7 +468,7 @@ fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu
     match gpu {
         Some(g) => {
             let _ = writeln!(s, "- {}", g.describe());
-            if let Backend::Gpu(gb) = g {
+            if let Some(gb) = g.gpu() {
                 if gb.info.device_type == wgpu::DeviceType::Cpu {
                     let _ = writeln!(
                         s,
@@ -488,8 +488,8 @@ fn markdown(a: &MicrofacetArgs, rows: &[Measured], grids: &[(Group, usize)], cpu
          CPU: wall clock of the rayon-parallel evaluation. GPU: {}.",
         a.repeats,
         a.rows,
-        match gpu {
-            Some(Backend::Gpu(g)) if g.timestamps => "timestamp queries around the compute pass (kernel time, no transfers)",
+        match gpu.map(|g| g.gpu()) {
+            Some(Some(g)) if g.timestamps => "timestamp queries around the compute pass (kernel time, no transfers)",
             Some(_) => "wall clock including transfers (the adapter has no timestamp queries)",
             None => "not measured",
         }

@@ -165,7 +165,7 @@ fn cpu_sums(k: &Kernel, input: &[f32], out: &mut [f32]) -> f64 {
 pub fn run(a: &StorageArgs) -> Result<()> {
     crate::io::prepare_output(&a.output)?;
     let backend = Backend::select(DeviceChoice::Gpu).context("host bench storage times the GPU backend's adapter")?;
-    let Backend::Gpu(g) = &backend else { bail!("host bench storage needs the GPU backend") };
+    let Some(g) = backend.gpu() else { bail!("host bench storage needs the GPU backend") };
     eprintln!("{}", backend.describe());
     let info = RunInfo::start(Some(g.describe()));
     for prefix in ["f32", "vec4"] {

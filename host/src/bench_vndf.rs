@@ -271,7 +271,7 @@ pub fn run(a: &VndfArgs) -> Result<()> {
     for (k, r) in results.iter_mut().enumerate() {
         r.cpu_rate = cpu_rates[k];
         r.gpu_rate = gpu_rates.as_ref().map(|g| g[k]);
-        if let (Some(Backend::Gpu(g)), Some(entry)) = (&gpu, crate::bench_kernels::wgsl_entry(r.name)) {
+        if let (Some(g), Some(entry)) = (gpu.as_ref().and_then(|b| b.gpu()), crate::bench_kernels::wgsl_entry(r.name)) {
             let f = find_function(r.name)?;
             let pr = crate::bench_kernels::time_paired(gpu.as_ref().expect("GPU backend"), g, entry, f, &timing_table, a.rows, a.repeats as u32)?;
             r.wgsl_rate = Some(pr.wgsl);

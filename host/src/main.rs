@@ -268,7 +268,7 @@ fn info(device: DeviceChoice, json: bool) -> Result<()> {
     let backend = Backend::select(device)?;
     text.push(format!("--device {:?} selects: {}", device, backend.describe()));
     let mut probe = serde_json::Value::Null;
-    if let Backend::Gpu(g) = &backend {
+    if let Some(g) = backend.gpu() {
         // Whatever auto chose: is the native build's division correctly rounded here? (Probed on
         // the loaded context when it holds the native build, else on a second one.)
         let p = if g.div_sqrt == host::shaders::DivSqrt::Native {

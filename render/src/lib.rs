@@ -23,14 +23,11 @@
 //! ```
 
 use anyhow::{bail, Context, Result};
-use runner::{Backend, Timing};
+use runner::{Backend, Launch, Timing};
 use shader_core::pt::camera::{Camera, ORTHOGRAPHIC, PERSPECTIVE};
 use shader_core::pt::integrator::RenderParams;
 use shader_core::Vec3;
-use shader_kernels::render::{RenderArgs, OUT_STRIDE};
-
-/// The kernel's entry point.
-pub const ENTRY: &str = "render::pt_render";
+use shader_kernels::render::{RenderArgs, OUT_STRIDE, PT_RENDER};
 
 /// Everything a launch binds besides its parameters.
 pub struct RenderInputs<'a> {
@@ -42,17 +39,18 @@ pub struct RenderInputs<'a> {
     pub lut: &'a [f32],
 }
 
+impl RenderInputs<'_> {
+    /// The kernels' bindings after their argument record: scene, environment, LUT.
+    pub fn bindings(&self) -> [&[u8]; 3] {
+        [bytemuck::cast_slice(self.scene), bytemuck::cast_slice(self.env), bytemuck::cast_slice(self.lut)]
+    }
+}
+
 /// One launch: samples `p.sample_base .. + p.spp` of every pixel. Returns `OUT_STRIDE` floats
 /// per pixel and the time.
 pub fn launch(backend: &Backend, inputs: &RenderInputs<'_>, p: &RenderParams) -> Result<(Vec<f32>, Timing)> {
     let pixels = p.width as usize * p.height as usize;
-    let args = RenderArgs::new(p);
-    let bufs: [&[u8]; 3] = [bytemuck::cast_slice(inputs.scene), bytemuck::cast_slice(inputs.env), bytemuck::cast_slice(inputs.lut)];
-    backend.launch(ENTRY, args, &bufs, pixels, OUT_STRIDE, |a, i, out| {
-        let mut one = *a;
-        one.first_pixel = a.first_pixel + i;
-        shader_kernels::render::pixel(0, &one, inputs.scene, inputs.env, inputs.lut, out);
-    })
+    backend.run(&PT_RENDER, Launch::new(RenderArgs::new(p), &inputs.bindings()), pixels, OUT_STRIDE)
 }
 
 /// The running per-pixel sums of a progressive render.

@@ -4,6 +4,7 @@ use crate::gpu::{groups_2d, GpuContext, GpuError, OutputSpec};
 use crate::timing::{Timing, TimingSource};
 use anyhow::{bail, Context, Result};
 use shader_kernels::eval::{EvalArgs, FunctionInfo};
+use shader_kernels::launch::{Bindings, BlockFns, ItemFn, Kernel, ListFn, SerialFn};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -29,6 +30,12 @@ pub enum DeviceChoice {
 pub enum Backend {
     Cpu,
     Gpu(Box<GpuContext>),
+}
+
+impl From<Box<GpuContext>> for Backend {
+    fn from(g: Box<GpuContext>) -> Backend {
+        Backend::Gpu(g)
+    }
 }
 
 impl Backend {
@@ -114,6 +121,14 @@ impl Backend {
         }
     }
 
+    /// The GPU context, owned (the CPU backend: `None`).
+    pub fn into_gpu(self) -> Option<Box<GpuContext>> {
+        match self {
+            Backend::Cpu => None,
+            Backend::Gpu(g) => Some(g),
+        }
+    }
+
     pub fn is_gpu(&self) -> bool {
         matches!(self, Backend::Gpu(_))
     }
@@ -181,49 +196,52 @@ impl Backend {
         }
     }
 
-    /// Run kernel `entry` over invocations `0..count`, each writing `stride` floats, on this
-    /// backend: the GPU dispatches the entry point (bindings: `args`, then `inputs` read-only,
-    /// then the output), the CPU calls `cpu(args, i, out)` for every invocation on all cores,
-    /// where `out` is invocation `i`'s `stride` floats and `args` the record of its launch.
-    /// Large launches are split so no output binding exceeds the adapter's limit; `args`'s
-    /// launch fields ([`LaunchArgs`]) are filled in here. Returns the outputs and the time.
-    pub fn launch<A: LaunchArgs>(
-        &self,
-        entry: &str,
-        args: A,
-        inputs: &[&[u8]],
-        count: usize,
-        stride: usize,
-        cpu: impl Fn(&A, u32, &mut [f32]) + Sync,
-    ) -> Result<(Vec<f32>, Timing)> {
-        let mut out = vec![0.0f32; count * stride];
+    /// The GPU context, for what only a GPU has (its adapter, pipeline compile times, command
+    /// chains, WGSL comparison kernels); `None` on the CPU backend.
+    pub fn gpu(&self) -> Option<&GpuContext> {
+        match self {
+            Backend::Cpu => None,
+            Backend::Gpu(g) => Some(g),
+        }
+    }
+
+    /// Seconds the driver took to compile `kernel`'s pipeline on first use (`None` on the CPU
+    /// backend, or before its first launch).
+    pub fn compile_seconds<F>(&self, kernel: &Kernel<F>) -> Option<f64> {
+        self.gpu().and_then(|g| g.compile_seconds(kernel.entry))
+    }
+
+    /// Run `kernel` over invocations `0..count`, each writing its `stride` values of the output:
+    /// the GPU dispatches its entry point (bindings: the argument record, `launch.inputs`, the
+    /// output), the CPU calls its [`ItemFn`] for every invocation on all cores. A launch whose
+    /// output exceeds the adapter's binding limit is split when the record has a
+    /// first-invocation field ([`LaunchArgs::SPLITS`]); the launch fields are filled in here.
+    /// Returns the output and the time (the CPU: its loop, the output's allocation excluded).
+    pub fn run<A: LaunchArgs>(&self, kernel: &Kernel<ItemFn<A>>, launch: Launch<'_, A>, count: usize, stride: usize) -> Result<(Vec<f32>, Timing)> {
         if count == 0 {
-            return Ok((out, Timing { seconds: 0.0, source: TimingSource::WallClock }));
+            return Ok((Vec::new(), Timing::zero()));
         }
         let wg = shader_kernels::WORKGROUP_SIZE as usize;
         match self {
             Backend::Cpu => {
+                let mut out = crate::cpu::touched_zeros(count * stride);
+                let mut a = launch.args;
+                a.set_launch(count as u32, groups_2d(count.div_ceil(wg) as u32).0, 0);
+                let b = Bindings(launch.inputs);
                 let t0 = Instant::now();
-                let mut a = args;
-                let (gx, _) = groups_2d(count.div_ceil(wg) as u32);
-                a.set_launch(count as u32, gx, 0);
-                crate::cpu::on_backend_threads(|| out.par_chunks_mut(stride.max(1)).enumerate().for_each(|(i, o)| cpu(&a, i as u32, o)));
-                Ok((out, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock }))
+                crate::cpu::on_backend_threads(|| out.par_chunks_mut(stride.max(1)).enumerate().for_each(|(i, o)| (kernel.cpu)(&a, &b, i as u32, o)));
+                Ok((out, Timing::since(t0)))
             }
             Backend::Gpu(g) => {
-                let per = (g.max_binding_bytes() / (4 * stride.max(1))).min(65535 * 65535 * wg).max(wg);
+                let per = if A::SPLITS { (g.max_binding_bytes() / (4 * stride.max(1))).min(65535 * 65535 * wg).max(wg) } else { count };
+                let mut out = vec![0.0f32; count * stride];
                 let mut total: Option<Timing> = None;
                 let mut start = 0;
                 while start < count {
                     let n = (count - start).min(per);
-                    let (gx, gy) = groups_2d(n.div_ceil(wg) as u32);
-                    let mut a = args;
-                    a.set_launch(n as u32, gx, start as u32);
-                    let mut bufs: Vec<&[u8]> = vec![bytemuck::bytes_of(&a)];
-                    bufs.extend_from_slice(inputs);
-                    let (res, t) = g
-                        .dispatch(entry, &bufs, &[OutputSpec::zeroed(n * stride * 4)], (gx, gy, 1))
-                        .with_context(|| format!("{entry}: invocations {start}..{}", start + n))?;
+                    let (res, t) = self
+                        .dispatch(kernel.entry, &launch, start, n, &[OutputSpec::zeroed(n * stride * 4)])
+                        .with_context(|| format!("{}: invocations {start}..{}", kernel.entry, start + n))?;
                     out[start * stride..(start + n) * stride].copy_from_slice(&bytemuck::pod_collect_to_vec::<u8, f32>(&res[0]));
                     total = Some(match total { Some(x) => x + t, None => t });
                     start += n;
@@ -232,14 +250,135 @@ impl Backend {
             }
         }
     }
+
+    /// Run `kernel` over the `count` entries of a compacted list, each writing a record of
+    /// `stride` values at the slot it names of an output of `slots` zeroed records: the GPU
+    /// dispatches its entry point, the CPU calls its [`ListFn`] on all cores and stores each
+    /// record at its slot (two entries naming one slot, or a slot past the end, are an error:
+    /// `cpu::scatter_records`).
+    pub fn run_list<A: LaunchArgs>(&self, kernel: &Kernel<ListFn<A>>, launch: Launch<'_, A>, count: usize, slots: usize, stride: usize) -> Result<(Vec<f32>, Timing)> {
+        match self {
+            Backend::Cpu => {
+                let mut out = crate::cpu::touched_zeros(slots * stride);
+                let a = cpu_args(&launch, count);
+                let b = Bindings(launch.inputs);
+                let t0 = Instant::now();
+                crate::cpu::on_backend_threads(|| crate::cpu::scatter_records(count, stride, &mut out, |k, o| (kernel.cpu)(&a, &b, k, o) as usize))
+                    .with_context(|| format!("CPU launch of {}", kernel.entry))?;
+                Ok((out, Timing::since(t0)))
+            }
+            Backend::Gpu(_) => {
+                let (res, t) = self.dispatch(kernel.entry, &launch, 0, count, &[OutputSpec::zeroed(slots * stride * 4)])?;
+                Ok((bytemuck::pod_collect_to_vec(&res[0]), t))
+            }
+        }
+    }
+
+    /// Run `kernel` over `count` blocks of `buf`, updated in place: every invocation reads the
+    /// buffer as it was and writes its block ([`BlockFns`]). Returns the updated buffer.
+    pub fn run_in_place<A: LaunchArgs, W: Send>(&self, kernel: &Kernel<BlockFns<A, W>>, launch: Launch<'_, A>, count: usize, mut buf: Vec<f32>) -> Result<(Vec<f32>, Timing)> {
+        match self {
+            Backend::Cpu => {
+                let a = cpu_args(&launch, count);
+                let b = Bindings(launch.inputs);
+                let t0 = Instant::now();
+                crate::cpu::on_backend_threads(|| crate::cpu::update_in_place(&mut buf, count, |src, i| (kernel.cpu.block)(&a, &b, src, i), |w, dst| (kernel.cpu.store)(w, dst)));
+                Ok((buf, Timing::since(t0)))
+            }
+            Backend::Gpu(_) => {
+                let init = OutputSpec { size: buf.len() * 4, init: Some(bytemuck::cast_slice(&buf)) };
+                let (res, t) = self.dispatch(kernel.entry, &launch, 0, count, &[init])?;
+                Ok((bytemuck::pod_collect_to_vec(&res[0]), t))
+            }
+        }
+    }
+
+    /// Run `kernel` over invocations `0..count` writing disjoint parts of zeroed outputs of
+    /// `lens` values each, at places they compute ([`SerialFn`]); the CPU runs the invocations
+    /// in order on one thread of the backend's pool.
+    pub fn run_serial<A: LaunchArgs>(&self, kernel: &Kernel<SerialFn<A>>, launch: Launch<'_, A>, count: usize, lens: &[usize]) -> Result<(Vec<Vec<f32>>, Timing)> {
+        match self {
+            Backend::Cpu => {
+                let mut outs: Vec<Vec<f32>> = lens.iter().map(|&n| crate::cpu::touched_zeros(n)).collect();
+                let a = cpu_args(&launch, count);
+                let b = Bindings(launch.inputs);
+                let t0 = Instant::now();
+                crate::cpu::on_backend_threads(|| {
+                    let mut views: Vec<&mut [f32]> = outs.iter_mut().map(|o| o.as_mut_slice()).collect();
+                    for i in 0..count as u32 {
+                        (kernel.cpu)(&a, &b, i, &mut views);
+                    }
+                });
+                Ok((outs, Timing::since(t0)))
+            }
+            Backend::Gpu(_) => {
+                let specs: Vec<OutputSpec<'_>> = lens.iter().map(|&n| OutputSpec::zeroed(n * 4)).collect();
+                let (res, t) = self.dispatch(kernel.entry, &launch, 0, count, &specs)?;
+                Ok((res.iter().map(|r| bytemuck::pod_collect_to_vec(r)).collect(), t))
+            }
+        }
+    }
+
+    /// One GPU dispatch of invocations `first..first + n` of `entry`.
+    fn dispatch<A: LaunchArgs>(&self, entry: &str, launch: &Launch<'_, A>, first: usize, n: usize, outputs: &[OutputSpec<'_>]) -> Result<(Vec<Vec<u8>>, Timing)> {
+        let Backend::Gpu(g) = self else { bail!("{entry}: a GPU dispatch on the CPU backend") };
+        let (gx, gy) = groups_2d(n.div_ceil(shader_kernels::WORKGROUP_SIZE as usize) as u32);
+        let mut a = launch.args;
+        a.set_launch(n as u32, gx, first as u32);
+        let mut bufs: Vec<&[u8]> = vec![bytemuck::bytes_of(&a)];
+        bufs.extend_from_slice(launch.inputs);
+        g.dispatch_specialized(entry, launch.spec, &bufs, outputs, (gx, gy, 1)).with_context(|| format!("GPU launch of {entry}"))
+    }
+}
+
+/// The argument record the CPU backend hands a kernel's function: the launch fields of one
+/// launch of `count` invocations.
+fn cpu_args<A: LaunchArgs>(launch: &Launch<'_, A>, count: usize) -> A {
+    let mut a = launch.args;
+    a.set_launch(count as u32, groups_2d(count.div_ceil(shader_kernels::WORKGROUP_SIZE as usize) as u32).0, 0);
+    a
+}
+
+/// What one launch of a [`Kernel`] binds: its argument record (binding 0), the buffers after it
+/// (as bytes, in the entry point's order: [`Bindings`]) and the values of its specialization
+/// constants (GPU only; `&[]`: the module's defaults).
+#[derive(Clone, Copy, Debug)]
+pub struct Launch<'a, A> {
+    pub args: A,
+    pub inputs: &'a [&'a [u8]],
+    pub spec: &'a [u32],
+}
+
+impl<'a, A> Launch<'a, A> {
+    /// A launch with argument record `args` and bindings `inputs`, no specialization.
+    pub fn new(args: A, inputs: &'a [&'a [u8]]) -> Self {
+        Launch { args, inputs, spec: &[] }
+    }
+
+    /// The same launch with specialization constants `spec`.
+    pub fn with_spec(self, spec: &'a [u32]) -> Self {
+        Launch { spec, ..self }
+    }
 }
 
 /// The launch fields of a kernel's argument record, filled by [`Backend::launch`]: the number of
 /// invocations of one dispatch, its workgroups in x, and the index of its first invocation (the
 /// kernel's invocation `i` is overall invocation `first + i`).
 pub trait LaunchArgs: bytemuck::Pod + Send + Sync {
+    /// Whether the record has a first-invocation field, so that a launch may be split in
+    /// several dispatches.
+    const SPLITS: bool = true;
     /// Set the launch fields.
     fn set_launch(&mut self, invocations: u32, groups_x: u32, first: u32);
+}
+
+/// An SSR pass's record has no first-invocation field: its launches are never split.
+impl LaunchArgs for shader_kernels::ssr::PassArgs {
+    const SPLITS: bool = false;
+    fn set_launch(&mut self, invocations: u32, groups_x: u32, _first: u32) {
+        self.invocations = invocations;
+        self.groups_x = groups_x;
+    }
 }
 
 /// `LaunchArgs` for records whose launch fields are `invocations`, `groups_x` and the named

@@ -78,32 +78,51 @@ unsafe impl Send for SharedOut {}
 
 /// The CPU launcher of a pass over a compacted list of `entries` (pbrt-v4's `ParallelFor` over
 /// the list, as the GPU kernel runs it): on all cores, `f(k, record)` computes entry `k`'s record
-/// (`S` floats) and returns the slot it belongs to, and the record is stored at that slot of
-/// `out` (`S` floats per slot), as the GPU kernel writes it there; slots no entry names keep
-/// their value. Each slot is claimed once through an atomic flag before it is written, so two
-/// entries naming one slot (a race on the GPU) or a slot past the end are an error, not a
-/// silently overwritten or dropped record.
-pub fn scatter_records<const S: usize>(entries: usize, out: &mut [f32], f: impl Fn(u32, &mut [f32; S]) -> usize + Sync) -> Result<(), ScatterError> {
+/// (`stride` floats, zeroed first) and returns the slot it belongs to, and the record is stored
+/// at that slot of `out` (`stride` floats per slot), as the GPU kernel writes it there; slots no
+/// entry names keep their value. Each slot is claimed once through an atomic flag before it is
+/// written, so two entries naming one slot (a race on the GPU) or a slot past the end are an
+/// error, not a silently overwritten or dropped record.
+pub fn scatter_records(entries: usize, stride: usize, out: &mut [f32], f: impl Fn(u32, &mut [f32]) -> usize + Sync) -> Result<(), ScatterError> {
     use std::sync::atomic::{AtomicU64, Ordering};
-    let slots = out.len() / S;
+    let slots = out.len() / stride.max(1);
     let claimed: Vec<AtomicU64> = (0..slots.div_ceil(64)).map(|_| AtomicU64::new(0)).collect();
     let base = SharedOut(out.as_mut_ptr());
     let base = &base;
-    (0..entries as u32).into_par_iter().try_for_each(|k| {
-        let mut r = [0.0f32; S];
-        let slot = f(k, &mut r);
-        if slot >= slots {
-            return Err(ScatterError::OutOfRange { entry: k, slot, slots });
+    (0..entries as u32).into_par_iter().try_for_each_init(
+        || vec![0.0f32; stride],
+        |r, k| {
+            r.fill(0.0);
+            let slot = f(k, r);
+            if slot >= slots {
+                return Err(ScatterError::OutOfRange { entry: k, slot, slots });
+            }
+            let bit = 1u64 << (slot % 64);
+            if claimed[slot / 64].fetch_or(bit, Ordering::Relaxed) & bit != 0 {
+                return Err(ScatterError::Duplicate { entry: k, slot });
+            }
+            // SAFETY: `slot < slots`, so the record lies inside `out`, which is borrowed mutably
+            // for this call; this entry alone set the slot's flag, so no other thread touches it.
+            unsafe { std::ptr::copy_nonoverlapping(r.as_ptr(), base.0.add(slot * stride), stride) };
+            Ok(())
+        },
+    )
+}
+
+/// The CPU launcher of a pass that updates `buf` in place: on all cores, `f(buf, i)` computes
+/// invocation `i`'s writes, which `store` applies once its block of invocations is computed (as
+/// on the GPU, an invocation reads only values no other invocation of the pass writes).
+pub fn update_in_place<W: Send>(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -> W + Sync, store: impl Fn(&W, &mut [f32])) {
+    const BLOCK: usize = 1 << 18;
+    let mut out = Vec::with_capacity(BLOCK.min(n));
+    for start in (0..n).step_by(BLOCK) {
+        let end = (start + BLOCK).min(n);
+        let src = &*buf;
+        (start..end).into_par_iter().map(|i| f(src, i as u32)).collect_into_vec(&mut out);
+        for w in &out {
+            store(w, buf);
         }
-        let bit = 1u64 << (slot % 64);
-        if claimed[slot / 64].fetch_or(bit, Ordering::Relaxed) & bit != 0 {
-            return Err(ScatterError::Duplicate { entry: k, slot });
-        }
-        // SAFETY: `slot < slots`, so the record lies inside `out`, which is borrowed mutably for
-        // this call; this entry alone set the slot's flag, so no other thread touches the record.
-        unsafe { std::ptr::copy_nonoverlapping(r.as_ptr(), base.0.add(slot * S), S) };
-        Ok(())
-    })
+    }
 }
 
 /// Number of worker threads the CPU backend uses.
@@ -138,8 +157,8 @@ mod tests {
         let entries = 5000usize;
         let mut out = vec![-1.0f32; 3 * 7001];
         // Entry k goes to slot (k * 7 + 3) % 7001 (a prime): distinct slots in a shuffled order.
-        on_backend_threads(|| scatter_records::<3>(entries, &mut out, |k, r| {
-            *r = [k as f32, 0.5, -(k as f32)];
+        on_backend_threads(|| scatter_records(entries, 3, &mut out, |k, r| {
+            r.copy_from_slice(&[k as f32, 0.5, -(k as f32)]);
             (k as usize * 7 + 3) % 7001
         }))
         .unwrap();
@@ -157,9 +176,9 @@ mod tests {
         assert_eq!(written, entries);
         let mut out = vec![0.0f32; 2 * 10];
         // Which of the three entries finds the slot taken depends on the threads.
-        let e = scatter_records::<2>(3, &mut out, |_, _| 4).unwrap_err();
+        let e = scatter_records(3, 2, &mut out, |_, _| 4).unwrap_err();
         assert!(matches!(e, ScatterError::Duplicate { slot: 4, .. }), "{e:?}");
-        let e = scatter_records::<2>(3, &mut out, |k, _| 8 + k as usize).unwrap_err();
+        let e = scatter_records(3, 2, &mut out, |k, _| 8 + k as usize).unwrap_err();
         assert_eq!(e, ScatterError::OutOfRange { entry: 2, slot: 10, slots: 10 });
     }
 

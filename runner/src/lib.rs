@@ -28,6 +28,7 @@ pub mod launches;
 pub mod shaders;
 pub mod timing;
 
-pub use backend::{Backend, DeviceChoice, LaunchArgs};
+pub use backend::{Backend, DeviceChoice, Launch, LaunchArgs};
+pub use shader_kernels::launch::Kernel;
 pub use launches::in_launches;
 pub use timing::{Timing, TimingSource};

@@ -25,6 +25,18 @@ pub struct Timing {
     pub source: TimingSource,
 }
 
+impl Timing {
+    /// No time (a launch with nothing to do).
+    pub fn zero() -> Timing {
+        Timing { seconds: 0.0, source: TimingSource::WallClock }
+    }
+
+    /// The wall clock since `t0`.
+    pub fn since(t0: std::time::Instant) -> Timing {
+        Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock }
+    }
+}
+
 /// Sum of two timings; wall clock wins if either is wall clock.
 impl std::ops::Add for Timing {
     type Output = Timing;

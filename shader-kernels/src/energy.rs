@@ -200,3 +200,31 @@ pub fn energy_furnace(
     let Some(i) = crate::invocation_index(id, a.invocations, a.groups_x) else { return };
     furnace_pixel(i, &a, lut, out);
 }
+
+/// The host's declarations of the energy kernels (`crate::launch`).
+#[cfg(not(target_arch = "spirv"))]
+mod declarations {
+    use super::*;
+    use crate::launch::{ItemFn, Kernel};
+
+    /// [`energy_albedo_table`]: one item's [`TABLE_STRIDE`] sums per invocation; no bindings.
+    pub const ALBEDO_TABLE: Kernel<ItemFn<AlbedoTableArgs>> = Kernel {
+        entry: "energy::energy_albedo_table",
+        cpu: |a, _, i, out| albedo_table_cell(0, &AlbedoTableArgs { first: a.first + i, ..*a }, out),
+    };
+
+    /// [`energy_albedo_avg`]: one item's sum per invocation; no bindings.
+    pub const ALBEDO_AVG: Kernel<ItemFn<AlbedoAvgArgs>> = Kernel {
+        entry: "energy::energy_albedo_avg",
+        cpu: |a, _, i, out| albedo_avg_cell(0, &AlbedoAvgArgs { first: a.first + i, ..*a }, out),
+    };
+
+    /// [`energy_furnace`]: one pixel's [`FURNACE_STRIDE`] values per invocation; binding: the
+    /// energy LUT.
+    pub const FURNACE: Kernel<ItemFn<FurnaceArgs>> = Kernel {
+        entry: "energy::energy_furnace",
+        cpu: |a, b, i, out| furnace_pixel(0, &FurnaceArgs { first: a.first + i, ..*a }, b.f32(0), out),
+    };
+}
+#[cfg(not(target_arch = "spirv"))]
+pub use declarations::*;

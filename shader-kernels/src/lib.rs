@@ -20,6 +20,8 @@
 pub mod energy;
 #[cfg(not(feature = "subgroup-module"))]
 pub mod eval;
+#[cfg(not(target_arch = "spirv"))]
+pub mod launch;
 #[cfg(not(feature = "subgroup-module"))]
 pub mod render;
 #[cfg(not(feature = "subgroup-module"))]

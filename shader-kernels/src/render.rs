@@ -180,3 +180,25 @@ pub fn pt_gbuffer(
         gbuffer_pixel(i, &a, scene, env, lut, out);
     }
 }
+
+/// The host's declarations of [`pt_render`] and [`pt_gbuffer`] (`crate::launch`). Bindings:
+/// scene words, environment, energy LUT.
+#[cfg(not(target_arch = "spirv"))]
+mod declarations {
+    use super::*;
+    use crate::launch::{ItemFn, Kernel};
+
+    /// [`pt_render`]: one pixel's [`OUT_STRIDE`] values per invocation.
+    pub const PT_RENDER: Kernel<ItemFn<RenderArgs>> = Kernel {
+        entry: "render::pt_render",
+        cpu: |a, b, i, out| pixel(0, &RenderArgs { first_pixel: a.first_pixel + i, ..*a }, b.u32(0), b.f32(1), b.f32(2), out),
+    };
+
+    /// [`pt_gbuffer`]: one pixel's [`GBUFFER_STRIDE`] values per invocation.
+    pub const PT_GBUFFER: Kernel<ItemFn<GBufferArgs>> = Kernel {
+        entry: "render::pt_gbuffer",
+        cpu: |a, b, i, out| gbuffer_pixel(0, &GBufferArgs { first_pixel: a.first_pixel + i, ..*a }, b.u32(0), b.f32(1), b.f32(2), out),
+    };
+}
+#[cfg(not(target_arch = "spirv"))]
+pub use declarations::*;

@@ -36,7 +36,7 @@ pub struct PassArgs {
     pub groups_x: u32,
     /// The pass's argument: mip level (pyramids), neighbourhood shape (HDRP resolve).
     pub arg: u32,
-    /// Unused.
+    /// The pass's second argument: the column the scans sum; unused elsewhere.
     pub pad: u32,
 }
 
@@ -551,3 +551,143 @@ pub fn sssr_scan(
         stochastic::store_scan_total(offsets, dispatch, n, Some(total), crate::WORKGROUP_SIZE);
     }
 }
+
+/// The host's declarations of the SSR passes (`crate::launch`). Every pass but the scans binds
+/// the [`SsrParams`] record first (binding 1 of the entry point, [`Bindings::record`] 0), then
+/// the buffers in the entry point's order; the scans bind the tiles alone.
+#[cfg(not(target_arch = "spirv"))]
+mod declarations {
+    use super::*;
+    use crate::launch::{Bindings, BlockFns, ItemFn, Kernel, ListFn, SerialFn};
+    use shader_core::ssr::params::MipBlock;
+    use shader_core::Vec3;
+
+    /// The parameter record of an SSR launch.
+    #[inline]
+    fn p<'a>(b: &Bindings<'a>) -> &'a SsrParams {
+        b.record(0)
+    }
+
+    /// [`ssr_hiz_downsample`]: mips `arg` and `arg + 1` of the depth pyramid, in place.
+    pub const HIZ_DOWNSAMPLE: Kernel<BlockFns<PassArgs, MipBlock<f32>>> = Kernel {
+        entry: "ssr::ssr_hiz_downsample",
+        cpu: BlockFns { block: |a, b, pyr, i| trace::hiz_block(p(b), pyr, a.arg, i), store: |w, pyr| w.store(pyr) },
+    };
+
+    /// [`ssr_color_downsample`]: mips `arg` and `arg + 1` of the colour pyramid, in place.
+    pub const COLOR_DOWNSAMPLE: Kernel<BlockFns<PassArgs, MipBlock<Vec3>>> = Kernel {
+        entry: "ssr::ssr_color_downsample",
+        cpu: BlockFns { block: |a, b, pyr, i| resolve::color_block(p(b), pyr, a.arg, i), store: |w, pyr| w.store(pyr) },
+    };
+
+    /// [`ssr_hdrp_emit`]: bindings G-buffer, tile offsets; output the pixel list.
+    pub const HDRP_EMIT: Kernel<SerialFn<PassArgs>> = Kernel {
+        entry: "ssr::ssr_hdrp_emit",
+        cpu: |_, b, i, outs| hdrp_emit(p(b), b.f32(1), b.f32(2), i, outs[0]),
+    };
+
+    /// [`ssr_hdrp_trace`]: bindings G-buffer, depth pyramid, pixel list.
+    pub const HDRP_TRACE: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::ssr_hdrp_trace",
+        cpu: |_, b, k, o| hdrp_trace(p(b), b.f32(1), b.f32(2), b.f32(3), k, o, false),
+    };
+
+    /// [`ssr_ray_hits`]: bindings G-buffer, colour pyramid, rays.
+    pub const RAY_HITS: Kernel<ItemFn<PassArgs>> = Kernel {
+        entry: "ssr::ssr_ray_hits",
+        cpu: |_, b, i, o| hits::hit_record_slot(p(b), b.f32(1), b.f32(2), b.f32(3), i, o, 0),
+    };
+
+    /// [`ssr_hdrp_hits`]: bindings G-buffer, colour pyramid, rays, pixel list.
+    pub const HDRP_HITS: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::ssr_hdrp_hits",
+        cpu: |_, b, k, o| hdrp_hits(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), k, o, false),
+    };
+
+    /// [`ssr_hdrp_reproject`]: bindings G-buffer, colour pyramid, rays, pixel list.
+    pub const HDRP_REPROJECT: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::ssr_hdrp_reproject",
+        cpu: |_, b, k, o| hdrp_reproject(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), k, o, false),
+    };
+
+    /// [`ssr_hdrp_resolve`] (`arg`: the shape): bindings G-buffer, colour pyramid, rays, hits,
+    /// pixel list.
+    pub const HDRP_RESOLVE: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::ssr_hdrp_resolve",
+        cpu: |a, b, k, o| hdrp_resolve(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), a.arg, b.f32(5), k, o, false),
+    };
+
+    /// [`sssr_classify`]: binding G-buffer.
+    pub const SSSR_CLASSIFY: Kernel<ItemFn<PassArgs>> = Kernel {
+        entry: "ssr::sssr_classify",
+        cpu: |_, b, i, o| classify(p(b), b.f32(1), i, o, 0),
+    };
+
+    /// [`sssr_emit`]: bindings G-buffer, ray offsets, pixel offsets; outputs the ray list and
+    /// the pixel list.
+    pub const SSSR_EMIT: Kernel<SerialFn<PassArgs>> = Kernel {
+        entry: "ssr::sssr_emit",
+        cpu: |_, b, i, outs| {
+            if let [list, pixels] = outs {
+                emit(p(b), b.f32(1), b.f32(2), b.f32(3), i, list, pixels)
+            }
+        },
+    };
+
+    /// [`sssr_trace`]: bindings G-buffer, depth pyramid, ray list.
+    pub const SSSR_TRACE: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::sssr_trace",
+        cpu: |_, b, k, o| sssr_trace_entry(p(b), b.f32(1), b.f32(2), b.f32(3), k, o, false),
+    };
+
+    /// [`sssr_hits`]: bindings G-buffer, colour pyramid, rays, ray list.
+    pub const SSSR_HITS: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::sssr_hits",
+        cpu: |_, b, k, o| sssr_hits_entry(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), k, o, false),
+    };
+
+    /// [`sssr_resolve`]: bindings G-buffer, colour pyramid, rays, hits, pixel list.
+    pub const SSSR_RESOLVE: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::sssr_resolve",
+        cpu: |_, b, k, o| sssr_resolve_entry(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), b.f32(5), k, o, false),
+    };
+
+    /// [`sssr_hit_distance`]: bindings G-buffer, rays, hits, pixel list.
+    pub const SSSR_HIT_DISTANCE: Kernel<ListFn<PassArgs>> = Kernel {
+        entry: "ssr::sssr_hit_distance",
+        cpu: |_, b, k, o| sssr_hit_distance_entry(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), k, o, false),
+    };
+
+    /// [`sssr_temporal`]: bindings G-buffer, previous G-buffer, hit distance, current
+    /// reflection, history.
+    pub const SSSR_TEMPORAL: Kernel<ItemFn<PassArgs>> = Kernel {
+        entry: "ssr::sssr_temporal",
+        cpu: |_, b, i, o| temporal(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), b.f32(5), i, o, 0),
+    };
+
+    /// [`ssr_specular`]: bindings G-buffer, base colour, energy LUT, reflection.
+    pub const SPECULAR: Kernel<ItemFn<PassArgs>> = Kernel {
+        entry: "ssr::ssr_specular",
+        cpu: |_, b, i, o| specular_term(p(b), b.f32(1), b.f32(2), b.f32(3), b.f32(4), i, o, 0),
+    };
+
+    /// The scans' CPU form: the sequential prefix sum of column `pad` over `arg` tiles (binding:
+    /// the tiles) and the dispatch record (as f32 bits) of the pass launched over the list.
+    const SCAN_CPU: SerialFn<PassArgs> = |a, b, _, outs| {
+        if let [offsets, dispatch] = outs {
+            stochastic::prefix_sum_tiles(b.f32(0), a.arg, a.pad as usize, offsets);
+            let rec = stochastic::dispatch_record(offsets[a.arg as usize].to_bits(), crate::WORKGROUP_SIZE);
+            for (d, r) in dispatch.iter_mut().zip(rec) {
+                *d = f32::from_bits(r);
+            }
+        }
+    };
+
+    /// [`sssr_scan`], one workgroup.
+    pub const SSSR_SCAN: Kernel<SerialFn<PassArgs>> = Kernel { entry: "ssr::sssr_scan", cpu: SCAN_CPU };
+
+    /// `ssr_subgroup::sssr_scan_subgroup` (the subgroup module), one workgroup.
+    pub const SSSR_SCAN_SUBGROUP: Kernel<SerialFn<PassArgs>> = Kernel { entry: "ssr_subgroup::sssr_scan_subgroup", cpu: SCAN_CPU };
+}
+#[cfg(not(target_arch = "spirv"))]
+pub use declarations::*;

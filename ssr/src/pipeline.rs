@@ -3,18 +3,17 @@
 //! `shader_kernels::ssr`. Every pass is timed (CPU: wall clock; GPU: timestamp queries).
 
 use super::gbuffer::GBuffer;
-use runner::gpu::{groups_2d, OutputSpec};
+use runner::gpu::groups_2d;
 use runner::timing::{Timing, TimingSource};
-use runner::Backend;
+use runner::{Backend, Kernel, Launch};
+use shader_kernels::launch::{ItemFn, ListFn};
+use shader_kernels::ssr::PassArgs;
 use anyhow::{Context, Result};
-use rayon::prelude::*;
 use shader_core::ssr::params::{self, mip_size, SsrParams};
-use shader_core::ssr::hits;
 use shader_core::ssr::resolve::{self, COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::specular::SPECULAR_STRIDE;
 use shader_core::ssr::stochastic;
-use shader_core::ssr::trace::{self, RAY_STRIDE};
-use std::time::Instant;
+use shader_core::ssr::trace::RAY_STRIDE;
 use shader_kernels::ssr as kern;
 
 /// How rays are traced.
@@ -200,22 +199,6 @@ pub fn depth_pyramid_init(p: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
     Ok(pyr)
 }
 
-/// The CPU launcher of a pass that updates `buf` in place: on all cores, `f(buf, i)` computes
-/// invocation `i`'s writes, which `store` applies once its block of invocations is computed (as
-/// on the GPU, an invocation reads only values no other invocation of the pass writes).
-fn update_in_place<W: Send>(buf: &mut [f32], n: usize, f: impl Fn(&[f32], u32) -> W + Sync, store: impl Fn(&W, &mut [f32])) {
-    const BLOCK: usize = 1 << 18;
-    let mut out = Vec::with_capacity(BLOCK.min(n));
-    for start in (0..n).step_by(BLOCK) {
-        let end = (start + BLOCK).min(n);
-        let src = &*buf;
-        (start..end).into_par_iter().map(|i| f(src, i as u32)).collect_into_vec(&mut out);
-        for w in &out {
-            store(w, buf);
-        }
-    }
-}
-
 /// The depth-pyramid passes as (level, invocations): each writes mips `level` and `level + 1`
 /// (`level` = 0, 2, 4, ...) with one invocation per texel of mip `level + 1`
 /// (`shader_core::ssr::trace::hiz_block`); the first also converts the depth (and the far-depth
@@ -371,64 +354,33 @@ impl<'a> Runner<'a> {
         self.times.iter().map(|p| p.seconds).sum()
     }
 
-    /// Run `entry` over `count` invocations with `extra` args, the parameters `consts`, read-only
-    /// `inputs` and one output buffer of `out_len` floats (initialized from `init` when given).
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn gpu_pass(&mut self, name: &str, entry: &str, count: u32, extra: &[u32], consts: &SsrParams, inputs: &[&[f32]], out_len: usize, init: Option<&[f32]>) -> Result<Vec<f32>> {
-        let Backend::Gpu(g) = self.backend else { unreachable!() };
-        let (args, (gx, gy)) = pass_args(count, extra);
-        let mut ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args), bytemuck::bytes_of(consts)];
-        ins.extend(inputs.iter().map(|v| bytes(v)));
-        let spec = OutputSpec { size: out_len * 4, init: init.map(bytes) };
-        let (res, t) = g.dispatch_specialized(entry, &consts.modes(), &ins, &[spec], (gx, gy, 1)).with_context(|| format!("GPU pass {name}"))?;
+    /// Launch an SSR pass named `name` (its time is recorded under that name): `run` gets the
+    /// backend and the launch (argument record with the pass's argument `arg`, then the
+    /// parameter record `consts` and `inputs`, the pipeline specialized on `consts`' modes).
+    pub(crate) fn pass<R>(&mut self, name: &str, consts: &SsrParams, arg: u32, inputs: &[&[f32]], run: impl FnOnce(&Backend, Launch<'_, PassArgs>) -> Result<(R, Timing)>) -> Result<R> {
+        let modes = consts.modes();
+        let mut bufs: Vec<&[u8]> = vec![bytemuck::bytes_of(consts)];
+        bufs.extend(inputs.iter().map(|v| bytes(v)));
+        let launch = Launch::new(PassArgs { arg, ..PassArgs::default() }, &bufs).with_spec(&modes);
+        let (r, t) = run(self.backend, launch).with_context(|| format!("SSR pass {name}"))?;
         self.record(name, t);
-        Ok(bytemuck::cast_slice(&res[0]).to_vec())
+        Ok(r)
     }
 
-    /// A pass over a list of `count` entries into a zeroed buffer of `slots` records of `S`
-    /// floats: on the CPU [`scatter`] over `cpu_fn` (entry `k`'s record, returning its slot), on
-    /// the GPU `entry` over the same entries (`gpu_pass`). An empty list runs nothing: every slot
-    /// stays zero.
+    /// A pass over a list of `count` entries into a zeroed buffer of `slots` records of
+    /// `stride` floats (`Backend::run_list`). An empty list runs nothing: every slot stays zero.
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn list_pass<const S: usize>(
-        &mut self,
-        name: &str,
-        entry: &str,
-        count: usize,
-        slots: usize,
-        extra: &[u32],
-        consts: &SsrParams,
-        inputs: &[&[f32]],
-        cpu_fn: impl Fn(u32, &mut [f32]) -> u32 + Sync,
-    ) -> Result<Vec<f32>> {
+    pub(crate) fn list_pass(&mut self, name: &str, kernel: &Kernel<ListFn<PassArgs>>, count: usize, slots: usize, stride: usize, arg: u32, consts: &SsrParams, inputs: &[&[f32]]) -> Result<Vec<f32>> {
         if count == 0 {
-            return Ok(vec![0.0; slots * S]);
+            return Ok(vec![0.0; slots * stride]);
         }
-        match self.backend {
-            Backend::Cpu => {
-                let mut out = runner::cpu::touched_zeros(slots * S);
-                self.cpu_timed(name, || runner::cpu::scatter_records::<S>(count, &mut out, |k, o| cpu_fn(k, o) as usize)).with_context(|| format!("CPU pass {name}"))?;
-                Ok(out)
-            }
-            Backend::Gpu(_) => self.gpu_pass(name, entry, count as u32, extra, consts, inputs, slots * S, None),
-        }
+        self.pass(name, consts, arg, inputs, |b, l| b.run_list(kernel, l, count, slots, stride))
     }
 
-    pub(crate) fn cpu_timed<T: Send>(&mut self, name: &str, f: impl FnOnce() -> T + Send) -> T {
-        let t0 = Instant::now();
-        let r = runner::cpu::on_backend_threads(f);
-        self.record(name, Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock });
-        r
-    }
-
-    /// A CPU pass that fills an output of `len` floats (zeros where it writes nothing): the
-    /// buffer is allocated with its pages touched before the clock starts
-    /// (`runner::cpu::touched_zeros`), as the GPU backend's buffers exist before its timed
-    /// dispatch, so the pass's time is its kernel's.
-    pub(crate) fn cpu_pass(&mut self, name: &str, len: usize, f: impl FnOnce(&mut [f32]) + Send) -> Vec<f32> {
-        let mut out = runner::cpu::touched_zeros(len);
-        self.cpu_timed(name, || f(&mut out));
-        out
+    /// A pass of one invocation per record of `stride` floats, `count` records
+    /// (`Backend::run`).
+    pub(crate) fn item_pass(&mut self, name: &str, kernel: &Kernel<ItemFn<PassArgs>>, count: usize, stride: usize, consts: &SsrParams, inputs: &[&[f32]]) -> Result<Vec<f32>> {
+        self.pass(name, consts, 0, inputs, |b, l| b.run(kernel, l, count, stride))
     }
 
     /// The max-device-depth pyramid of `depth` (level 0 = its device depth), all levels packed, followed by
@@ -437,16 +389,8 @@ impl<'a> Runner<'a> {
     pub fn depth_pyramid(&mut self, consts: &SsrParams, depth: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let mut pyr = depth_pyramid_init(&p, depth)?;
-        let total = pyr.len();
         for (level, n) in depth_pyramid_passes(&p) {
-            match self.backend {
-                Backend::Cpu => {
-                    self.cpu_timed("depth pyramid", || update_in_place(&mut pyr, n, |pyr, i| trace::hiz_block(&p, pyr, level, i), |b, pyr| b.store(pyr)));
-                }
-                Backend::Gpu(_) => {
-                    pyr = self.gpu_pass("depth pyramid", "ssr::ssr_hiz_downsample", n as u32, &[level], consts, &[], total, Some(&pyr))?;
-                }
-            }
+            pyr = self.pass("depth pyramid", consts, level, &[], |b, l| b.run_in_place(&kern::HIZ_DOWNSAMPLE, l, n, pyr))?;
         }
         Ok(pyr)
     }
@@ -459,14 +403,7 @@ impl<'a> Runner<'a> {
         let mut pyr = runner::cpu::touched_zeros(total);
         pyr[..color.len()].copy_from_slice(color);
         for (level, n) in color_pyramid_passes(&p) {
-            match self.backend {
-                Backend::Cpu => {
-                    self.cpu_timed("color pyramid", || update_in_place(&mut pyr, n, |pyr, i| resolve::color_block(&p, pyr, level, i), |b, pyr| b.store(pyr)));
-                }
-                Backend::Gpu(_) => {
-                    pyr = self.gpu_pass("color pyramid", "ssr::ssr_color_downsample", n as u32, &[level], consts, &[], total, Some(&pyr))?;
-                }
-            }
+            pyr = self.pass("color pyramid", consts, level, &[], |b, l| b.run_in_place(&kern::COLOR_DOWNSAMPLE, l, n, pyr))?;
         }
         Ok(pyr)
     }
@@ -488,14 +425,8 @@ impl<'a> Runner<'a> {
         anyhow::ensure!(offsets.len() == n + 1, "offsets have {} words, expected {} ({n} tiles and the total)", offsets.len(), n + 1);
         let count = offsets[n].to_bits() as usize;
         anyhow::ensure!(count <= (p.width * p.height) as usize, "the scan counts {count} valid pixels in a {}x{} frame", p.width, p.height);
-        let mut pixels = match self.backend {
-            Backend::Cpu => self.cpu_pass("compact", count.max(1), |pixels| {
-                for t in 0..n as u32 {
-                    kern::hdrp_emit(&p, gbuf, offsets, t, pixels);
-                }
-            }),
-            Backend::Gpu(_) => self.gpu_pass("compact", "ssr::ssr_hdrp_emit", n as u32, &[], consts, &[gbuf, offsets], count.max(1), None)?,
-        };
+        let mut outs = self.pass("compact", consts, 0, &[gbuf, offsets], |b, l| b.run_serial(&kern::HDRP_EMIT, l, n, &[count.max(1)]))?;
+        let mut pixels = outs.remove(0);
         pixels.truncate(count);
         Ok(pixels)
     }
@@ -506,9 +437,7 @@ impl<'a> Runner<'a> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
         ensure_hdrp_pixels(&p, pixels)?;
-        self.list_pass::<RAY_STRIDE>("trace", "ssr::ssr_hdrp_trace", pixels.len(), n, &[], consts, &[gbuf, depth_pyr, pixels], |k, o| {
-            kern::hdrp_trace(&p, gbuf, depth_pyr, pixels, k, o, false)
-        })
+        self.list_pass("trace", &kern::HDRP_TRACE, pixels.len(), n, RAY_STRIDE, 0, consts, &[gbuf, depth_pyr, pixels])
     }
 
     /// Hit records of every ray slot (`HIT_STRIDE` floats per slot, pixels x samples per pixel,
@@ -519,12 +448,7 @@ impl<'a> Runner<'a> {
         let slots = ray_slots(&p);
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
         ensure_color_pyramid(&p, color_pyr)?;
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_pass("hits", slots * HIT_STRIDE, |out| {
-                out.par_chunks_mut(HIT_STRIDE).enumerate().for_each(|(i, o)| hits::hit_record_slot(&p, gbuf, color_pyr, rays, i as u32, o, 0))
-            })),
-            Backend::Gpu(_) => self.gpu_pass("hits", "ssr::ssr_ray_hits", slots as u32, &[], consts, &[gbuf, color_pyr, rays], slots * HIT_STRIDE, None),
-        }
+        self.item_pass("hits", &kern::RAY_HITS, slots, HIT_STRIDE, consts, &[gbuf, color_pyr, rays])
     }
 
     /// HDRP reprojection / resolve pass over the pixel list `pixels` (the one the rays were
@@ -540,17 +464,10 @@ impl<'a> Runner<'a> {
         ensure_color_pyramid(&p, color_pyr)?;
         let count = pixels.len();
         let Some(shape) = mode.shape() else {
-            return self.list_pass::<OUT_STRIDE>("resolve", "ssr::ssr_hdrp_reproject", count, n, &[], consts, &[gbuf, color_pyr, rays, pixels], |k, o| {
-                kern::hdrp_reproject(&p, gbuf, color_pyr, rays, pixels, k, o, false)
-            });
+            return self.list_pass("resolve", &kern::HDRP_REPROJECT, count, n, OUT_STRIDE, 0, consts, &[gbuf, color_pyr, rays, pixels]);
         };
-        let hits = self.list_pass::<HIT_STRIDE>("hits", "ssr::ssr_hdrp_hits", count, n, &[], consts, &[gbuf, color_pyr, rays, pixels], |k, o| {
-            kern::hdrp_hits(&p, gbuf, color_pyr, rays, pixels, k, o, false)
-        })?;
-        let hits = &hits[..];
-        self.list_pass::<OUT_STRIDE>("resolve", "ssr::ssr_hdrp_resolve", count, n, &[shape], consts, &[gbuf, color_pyr, rays, hits, pixels], |k, o| {
-            kern::hdrp_resolve(&p, gbuf, color_pyr, rays, hits, shape, pixels, k, o, false)
-        })
+        let hits = self.list_pass("hits", &kern::HDRP_HITS, count, n, HIT_STRIDE, 0, consts, &[gbuf, color_pyr, rays, pixels])?;
+        self.list_pass("resolve", &kern::HDRP_RESOLVE, count, n, OUT_STRIDE, shape, consts, &[gbuf, color_pyr, rays, &hits, pixels])
     }
 
     /// The specular term: `reflection` (4 values per pixel, premultiplied) times the
@@ -561,20 +478,7 @@ impl<'a> Runner<'a> {
         let n = (p.width * p.height) as usize;
         anyhow::ensure!(base_color.len() == 3 * n, "base colour has {} values, expected {}", base_color.len(), 3 * n);
         anyhow::ensure!(reflection.len() == 4 * n, "reflection has {} values, expected {}", reflection.len(), 4 * n);
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_pass("specular", n * SPECULAR_STRIDE, |out| {
-                out.par_chunks_mut(SPECULAR_STRIDE).enumerate().for_each(|(i, o)| kern::specular_term(&p, gbuf, base_color, lut, reflection, i as u32, o, 0))
-            })),
-            Backend::Gpu(_) => self.gpu_pass(
-                "specular",
-                "ssr::ssr_specular",
-                n as u32,
-                &[],
-                consts, &[gbuf, base_color, lut, reflection],
-                n * SPECULAR_STRIDE,
-                None,
-            ),
-        }
+        self.item_pass("specular", &kern::SPECULAR, n, SPECULAR_STRIDE, consts, &[gbuf, base_color, lut, reflection])
     }
 }
 

@@ -19,15 +19,12 @@ use crate::camera::Camera as SsrCamera;
 use crate::gbuffer::{GBuffer, ReferenceFile};
 use crate::reference::Reference;
 use anyhow::{bail, Context, Result};
-use runner::{Backend, Timing};
+use runner::{Backend, Launch, Timing};
 use std::path::{Path, PathBuf};
 use shader_core::pt::camera::{Camera, ORTHOGRAPHIC};
 use shader_core::pt::gbuffer::GBufferParams;
 use shader_core::pt::integrator::RenderParams;
-use shader_kernels::render::{gbuffer_out as layout, GBufferArgs, GBUFFER_STRIDE};
-
-/// The kernel's entry point.
-pub const ENTRY: &str = "render::pt_gbuffer";
+use shader_kernels::render::{gbuffer_out as layout, GBufferArgs, GBUFFER_STRIDE, PT_GBUFFER};
 
 /// Values per pixel that are the G-buffer itself (the same in every launch); the rest are sums.
 const GBUFFER_VALUES: usize = layout::ALL;
@@ -36,12 +33,7 @@ const GBUFFER_VALUES: usize = layout::ALL;
 /// every pixel; `GBUFFER_STRIDE` floats per pixel.
 pub fn launch(backend: &Backend, inputs: &RenderInputs<'_>, p: &GBufferParams) -> Result<(Vec<f32>, Timing)> {
     let pixels = p.render.width as usize * p.render.height as usize;
-    let bufs: [&[u8]; 3] = [bytemuck::cast_slice(inputs.scene), bytemuck::cast_slice(inputs.env), bytemuck::cast_slice(inputs.lut)];
-    backend.launch(ENTRY, GBufferArgs::new(p), &bufs, pixels, GBUFFER_STRIDE, |a, i, out| {
-        let mut one = *a;
-        one.first_pixel = a.first_pixel + i;
-        shader_kernels::render::gbuffer_pixel(0, &one, inputs.scene, inputs.env, inputs.lut, out);
-    })
+    backend.run(&PT_GBUFFER, Launch::new(GBufferArgs::new(p), &inputs.bindings()), pixels, GBUFFER_STRIDE)
 }
 
 /// The kernel's output over all launches: `GBUFFER_STRIDE` values per pixel, the reference

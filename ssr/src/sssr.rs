@@ -7,10 +7,11 @@ use super::gbuffer::GBuffer;
 pub use super::pipeline::TileStats;
 use super::pipeline::{build_params, color_pyramid_passes, depth_pyramid_init, depth_pyramid_passes, ensure_color_pyramid, ensure_slot_records, pass_args, pyramid_texels, ray_slots, Runner, SsrResult, SsrSettings};
 use super::scene::Scene;
-use runner::Backend;
-use runner::gpu::{ChainBuffer, ChainDispatch, ChainPass, OutputSpec};
+use runner::{Backend, Kernel, Launch};
+use shader_kernels::launch::SerialFn;
+use shader_kernels::ssr::PassArgs;
+use runner::gpu::{ChainBuffer, ChainDispatch, ChainPass};
 use anyhow::{Context, Result};
-use rayon::prelude::*;
 use shader_core::ssr::params::{SsrParams, FLAG_FIS, FLAG_RAY_COLOR, FLAG_REUSE, FLAG_SAMPLED_PDF, FLAG_STOCHASTIC, REPROJECT_HIT, REPROJECT_SURFACE};
 use shader_core::ssr::resolve::{COLOR_STRIDE, HIT_STRIDE, OUT_STRIDE};
 use shader_core::ssr::stochastic::{self, HISTORY_STRIDE, LIST_STRIDE, TILE, TILE_SKIP, TILE_STRIDE};
@@ -143,12 +144,7 @@ impl Runner<'_> {
         let p = *consts;
         let (tx, ty) = (p.width.div_ceil(TILE), p.height.div_ceil(TILE));
         let n = (tx * ty) as usize;
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_pass("classify", n * TILE_STRIDE, |out| {
-                out.par_chunks_mut(TILE_STRIDE).enumerate().for_each(|(i, o)| kern::classify(&p, gbuf, i as u32, o, 0))
-            })),
-            Backend::Gpu(_) => self.gpu_pass("classify", "ssr::sssr_classify", n as u32, &[], consts, &[gbuf], n * TILE_STRIDE, None),
-        }
+        self.item_pass("classify", &kern::SSSR_CLASSIFY, n, TILE_STRIDE, consts, &[gbuf])
     }
 
     /// Prefix sum of one count column of the tiles (`stochastic::TILE_RAYS`, `TILE_ELIGIBLE`
@@ -172,30 +168,16 @@ impl Runner<'_> {
             "scan column {column} is not a count column"
         );
         let n = tiles.len() / TILE_STRIDE;
-        match self.backend {
-            Backend::Cpu => {
-                let out = self.cpu_pass("compact", n + 1, |out| stochastic::prefix_sum_tiles(tiles, n as u32, column, out));
-                let rec = stochastic::dispatch_record(out[n].to_bits(), shader_kernels::WORKGROUP_SIZE);
-                Ok((out, rec.to_vec()))
-            }
-            Backend::Gpu(g) => {
-                let args = scan_pass_args(n, column);
-                let bufs = [
-                    ChainBuffer::Input(bytemuck::cast_slice(&args)),
-                    ChainBuffer::Input(bytemuck::cast_slice(tiles)),
-                    ChainBuffer::Output { size: (n + 1) * 4, init: None, read_back: true },
-                    ChainBuffer::Output { size: stochastic::DISPATCH_WORDS * 4, init: None, read_back: true },
-                ];
-                let entry = kernel.entry(g)?;
-                let pass = ChainPass { entry, spec: &[], reads: vec![0, 1], writes: vec![2, 3], dispatch: ChainDispatch::Direct(1, 1, 1) };
-                let (mut out, times) = g.dispatch_chain(&bufs, &[pass]).context("GPU pass scan")?;
-                self.record("compact", times[0]);
-                let rec: Vec<u32> = bytemuck::cast_slice(&out[3].take().unwrap()).to_vec();
-                check_dispatch_record(&rec, entry)?;
-                let offsets: Vec<f32> = bytemuck::cast_slice(&out[2].take().unwrap()).to_vec();
-                Ok((offsets, rec))
-            }
-        }
+        let scan = kernel.kernel(self.backend)?;
+        let args = PassArgs { arg: n as u32, pad: column as u32, ..PassArgs::default() };
+        let (mut outs, t) = self
+            .backend
+            .run_serial(scan, Launch::new(args, &[bytemuck::cast_slice(tiles)]), 1, &[n + 1, stochastic::DISPATCH_WORDS])
+            .context("SSR pass compact (scan)")?;
+        self.record("compact", t);
+        let rec: Vec<u32> = outs.pop().expect("two outputs").iter().map(|d| d.to_bits()).collect();
+        check_dispatch_record(&rec, scan.entry)?;
+        Ok((outs.pop().expect("two outputs"), rec))
     }
 
     /// One stochastic frame without the temporal pass: depth and colour pyramids,
@@ -211,9 +193,9 @@ impl Runner<'_> {
         let n = (tx * ty) as usize;
         let pixels = (p.width * p.height) as usize;
         let slots = ray_slots(&p);
-        let g = match self.backend {
-            Backend::Cpu => return self.sssr_frame_passes_separately(consts, gbuf, depth, color),
-            Backend::Gpu(g) => g,
+        // One command buffer is what only a GPU has; the CPU runs the passes one by one.
+        let Some(g) = self.backend.gpu() else {
+            return self.sssr_frame_passes_separately(consts, gbuf, depth, color);
         };
         let args_for = |count: usize, extra: &[u32]| pass_args(count as u32, extra).0;
         let direct = |count: usize| {
@@ -259,27 +241,27 @@ impl Runner<'_> {
         let (list_b, plist_b, rays_b, hits_b, refl_b) = (12, 13, 14, 15, 16);
         let first_level_arg = bufs.len();
         bufs.extend(level_args.iter().map(|a| ChainBuffer::Input(bytemuck::cast_slice(a))));
-        let scan_entry = ScanKernel::Auto.entry(g)?;
+        let scan_entry = ScanKernel::Auto.kernel(self.backend)?.entry;
         let modes = consts.modes();
         let mut passes = Vec::new();
         let mut names = Vec::new();
         for (k, &(_, cnt)) in depth_levels.iter().enumerate() {
-            passes.push(ChainPass { entry: "ssr::ssr_hiz_downsample", spec: &modes, reads: vec![first_level_arg + k, consts_b], writes: vec![depth_b], dispatch: direct(cnt) });
+            passes.push(ChainPass { entry: kern::HIZ_DOWNSAMPLE.entry, spec: &modes, reads: vec![first_level_arg + k, consts_b], writes: vec![depth_b], dispatch: direct(cnt) });
             names.push("depth pyramid");
         }
         for (k, &(_, cnt)) in levels.iter().enumerate() {
             let arg = first_level_arg + depth_levels.len() + k;
-            passes.push(ChainPass { entry: "ssr::ssr_color_downsample", spec: &modes, reads: vec![arg, consts_b], writes: vec![color_b], dispatch: direct(cnt) });
+            passes.push(ChainPass { entry: kern::COLOR_DOWNSAMPLE.entry, spec: &modes, reads: vec![arg, consts_b], writes: vec![color_b], dispatch: direct(cnt) });
             names.push("color pyramid");
         }
-        passes.push(ChainPass { entry: "ssr::sssr_classify", spec: &modes, reads: vec![tile_b, consts_b, gbuf_b], writes: vec![tiles_b], dispatch: direct(n) });
+        passes.push(ChainPass { entry: kern::SSSR_CLASSIFY.entry, spec: &modes, reads: vec![tile_b, consts_b, gbuf_b], writes: vec![tiles_b], dispatch: direct(n) });
         names.push("classify");
         for (args_b, offsets_b, dispatch_b) in [(ray_scan_b, ray_offsets_b, ray_dispatch_b), (pixel_scan_b, pixel_offsets_b, pixel_dispatch_b)] {
             passes.push(ChainPass { entry: scan_entry, spec: &[], reads: vec![args_b, tiles_b], writes: vec![offsets_b, dispatch_b], dispatch: ChainDispatch::Direct(1, 1, 1) });
             names.push("compact");
         }
         passes.push(ChainPass {
-            entry: "ssr::sssr_emit",
+            entry: kern::SSSR_EMIT.entry,
             spec: &modes,
             reads: vec![tile_b, consts_b, gbuf_b, ray_offsets_b, pixel_offsets_b],
             writes: vec![list_b, plist_b],
@@ -287,7 +269,7 @@ impl Runner<'_> {
         });
         names.push("compact");
         passes.push(ChainPass {
-            entry: "ssr::sssr_trace",
+            entry: kern::SSSR_TRACE.entry,
             spec: &modes,
             reads: vec![ray_dispatch_b, consts_b, gbuf_b, depth_b, list_b],
             writes: vec![rays_b],
@@ -295,7 +277,7 @@ impl Runner<'_> {
         });
         names.push("trace");
         passes.push(ChainPass {
-            entry: "ssr::sssr_hits",
+            entry: kern::SSSR_HITS.entry,
             spec: &modes,
             reads: vec![ray_dispatch_b, consts_b, gbuf_b, color_b, rays_b, list_b],
             writes: vec![hits_b],
@@ -303,7 +285,7 @@ impl Runner<'_> {
         });
         names.push("hits");
         passes.push(ChainPass {
-            entry: "ssr::sssr_resolve",
+            entry: kern::SSSR_RESOLVE.entry,
             spec: &modes,
             reads: vec![pixel_dispatch_b, consts_b, gbuf_b, color_b, rays_b, hits_b, plist_b],
             writes: vec![refl_b],
@@ -367,25 +349,9 @@ impl Runner<'_> {
         anyhow::ensure!(ray_offsets.len() == n + 1 && pixel_offsets.len() == n + 1, "offsets have {} and {} words, expected {} ({n} tiles and the total)", ray_offsets.len(), pixel_offsets.len(), n + 1);
         let rays = ray_offsets[n].to_bits() as usize;
         let eligible = pixel_offsets[n].to_bits() as usize;
-        let (mut list, mut pixels) = match self.backend {
-            Backend::Cpu => {
-                let (mut list, mut pixels) = (runner::cpu::touched_zeros(rays.max(1) * LIST_STRIDE), runner::cpu::touched_zeros(eligible.max(1)));
-                self.cpu_timed("compact", || {
-                    for t in 0..n as u32 {
-                        kern::emit(&p, gbuf, ray_offsets, pixel_offsets, t, &mut list, &mut pixels);
-                    }
-                });
-                (list, pixels)
-            }
-            Backend::Gpu(g) => {
-                let (args, (gx, gy)) = pass_args(n as u32, &[]);
-                let ins: Vec<&[u8]> = vec![bytemuck::cast_slice(&args), bytemuck::bytes_of(consts), bytemuck::cast_slice(gbuf), bytemuck::cast_slice(ray_offsets), bytemuck::cast_slice(pixel_offsets)];
-                let outs = [OutputSpec::zeroed(rays.max(1) * LIST_STRIDE * 4), OutputSpec::zeroed(eligible.max(1) * 4)];
-                let (res, t) = g.dispatch_specialized("ssr::sssr_emit", &consts.modes(), &ins, &outs, (gx, gy, 1)).context("GPU pass compact")?;
-                self.record("compact", t);
-                (bytemuck::cast_slice(&res[0]).to_vec(), bytemuck::cast_slice(&res[1]).to_vec())
-            }
-        };
+        let mut outs = self.pass("compact", consts, 0, &[gbuf, ray_offsets, pixel_offsets], |b, l| b.run_serial(&kern::SSSR_EMIT, l, n, &[rays.max(1) * LIST_STRIDE, eligible.max(1)]))?;
+        let mut pixels = outs.pop().expect("two outputs");
+        let mut list = outs.pop().expect("two outputs");
         list.truncate(rays * LIST_STRIDE);
         pixels.truncate(eligible);
         Ok((list, pixels))
@@ -396,9 +362,7 @@ impl Runner<'_> {
     pub fn sssr_trace(&mut self, consts: &SsrParams, gbuf: &[f32], depth_pyr: &[f32], list: &[f32]) -> Result<Vec<f32>> {
         let p = *consts;
         let slots = ray_slots(&p);
-        self.list_pass::<RAY_STRIDE>("trace", "ssr::sssr_trace", list.len() / LIST_STRIDE, slots, &[], consts, &[gbuf, depth_pyr, list], |k, o| {
-            kern::sssr_trace_entry(&p, gbuf, depth_pyr, list, k, o, false)
-        })
+        self.list_pass("trace", &kern::SSSR_TRACE, list.len() / LIST_STRIDE, slots, RAY_STRIDE, 0, consts, &[gbuf, depth_pyr, list])
     }
 
     /// Hit records of the rays of the list (`HIT_STRIDE` per slot, `shader_core::ssr::hits`;
@@ -409,9 +373,7 @@ impl Runner<'_> {
         let slots = ray_slots(&p);
         ensure_slot_records(&p, "ray", rays, RAY_STRIDE)?;
         ensure_color_pyramid(&p, color_pyr)?;
-        self.list_pass::<HIT_STRIDE>("hits", "ssr::sssr_hits", list.len() / LIST_STRIDE, slots, &[], consts, &[gbuf, color_pyr, rays, list], |k, o| {
-            kern::sssr_hits_entry(&p, gbuf, color_pyr, rays, list, k, o, false)
-        })
+        self.list_pass("hits", &kern::SSSR_HITS, list.len() / LIST_STRIDE, slots, HIT_STRIDE, 0, consts, &[gbuf, color_pyr, rays, list])
     }
 
     /// The ratio-estimator resolve of the eligible pixels `pixels` (from [`Runner::sssr_emit`]),
@@ -421,9 +383,7 @@ impl Runner<'_> {
         let n = (p.width * p.height) as usize;
         ensure_color_pyramid(&p, color_pyr)?;
         ensure_slot_records(&p, "hit", hits, HIT_STRIDE)?;
-        self.list_pass::<OUT_STRIDE>("resolve", "ssr::sssr_resolve", pixels.len(), n, &[], consts, &[gbuf, color_pyr, rays, hits, pixels], |k, o| {
-            kern::sssr_resolve_entry(&p, gbuf, color_pyr, rays, hits, pixels, k, o, false)
-        })
+        self.list_pass("resolve", &kern::SSSR_RESOLVE, pixels.len(), n, OUT_STRIDE, 0, consts, &[gbuf, color_pyr, rays, hits, pixels])
     }
 
     /// Reflection hit distance per pixel over the eligible pixels `pixels` (from
@@ -433,9 +393,7 @@ impl Runner<'_> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
         ensure_slot_records(&p, "hit", hits, HIT_STRIDE)?;
-        self.list_pass::<1>("temporal", "ssr::sssr_hit_distance", pixels.len(), n, &[], consts, &[gbuf, rays, hits, pixels], |k, o| {
-            kern::sssr_hit_distance_entry(&p, gbuf, rays, hits, pixels, k, o, false)
-        })
+        self.list_pass("temporal", &kern::SSSR_HIT_DISTANCE, pixels.len(), n, 1, 0, consts, &[gbuf, rays, hits, pixels])
     }
 
     /// Temporal accumulation: new history (`HISTORY_STRIDE` per pixel). `prev_gbuf` is the packed
@@ -446,22 +404,7 @@ impl Runner<'_> {
         let p = *consts;
         let n = (p.width * p.height) as usize;
         anyhow::ensure!(prev_gbuf.len() == gbuf.len(), "previous G-buffer has {} values, expected {}", prev_gbuf.len(), gbuf.len());
-        match self.backend {
-            Backend::Cpu => Ok(self.cpu_pass("temporal", n * HISTORY_STRIDE, |out| {
-                out.par_chunks_mut(HISTORY_STRIDE).enumerate().for_each(|(i, o)| {
-                    kern::temporal(&p, gbuf, prev_gbuf, hit_distance, current, history, i as u32, o, 0)
-                })
-            })),
-            Backend::Gpu(_) => self.gpu_pass(
-                "temporal",
-                "ssr::sssr_temporal",
-                n as u32,
-                &[],
-                consts, &[gbuf, prev_gbuf, hit_distance, current, history],
-                n * HISTORY_STRIDE,
-                None,
-            ),
-        }
+        self.item_pass("temporal", &kern::SSSR_TEMPORAL, n, HISTORY_STRIDE, consts, &[gbuf, prev_gbuf, hit_distance, current, history])
     }
 }
 
@@ -477,13 +420,15 @@ pub enum ScanKernel {
 }
 
 impl ScanKernel {
-    fn entry(self, g: &runner::gpu::GpuContext) -> Result<&'static str> {
-        const WG: &str = "ssr::sssr_scan";
-        const SG: &str = "ssr_subgroup::sssr_scan_subgroup";
+    /// The kernel this choice runs on `backend` (the CPU backend runs the sequential prefix sum
+    /// whatever the choice: both kernels declare it).
+    fn kernel(self, backend: &Backend) -> Result<&'static Kernel<SerialFn<PassArgs>>> {
+        let (wg, sg) = (&kern::SSSR_SCAN, &kern::SSSR_SCAN_SUBGROUP);
+        let Some(g) = backend.gpu() else { return Ok(wg) };
         match self {
-            ScanKernel::Auto => Ok(if g.has_subgroups() { SG } else { WG }),
-            ScanKernel::Workgroup => Ok(WG),
-            ScanKernel::Subgroup if g.has_subgroups() => Ok(SG),
+            ScanKernel::Auto => Ok(if g.has_subgroups() { sg } else { wg }),
+            ScanKernel::Workgroup => Ok(wg),
+            ScanKernel::Subgroup if g.has_subgroups() => Ok(sg),
             ScanKernel::Subgroup => anyhow::bail!("the subgroup scan needs an adapter with subgroup operations and SPIR-V passthrough; {} has none", g.info.name),
         }
     }

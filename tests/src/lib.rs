@@ -138,10 +138,7 @@ pub fn compare_table(gpu: &Backend, name: &str, inputs: &[f32]) -> Comparison {
     let rows = inputs.len() / in_stride;
     let (cpu, _) = Backend::Cpu.eval_table(f, inputs, rows).unwrap();
     let (gpu_out, _) = gpu.eval_table(f, inputs, rows).expect("GPU run");
-    let adapter = match gpu {
-        Backend::Gpu(g) => g.info.name.clone(),
-        Backend::Cpu => "CPU".into(),
-    };
+    let adapter = gpu.gpu().map_or_else(|| "CPU".into(), |g| g.info.name.clone());
     let columns = compare_outputs(f.outputs, &cpu, &gpu_out);
     Comparison { function: name.into(), adapter, rows, inputs: inputs.to_vec(), in_stride, columns }
 }

@@ -9,10 +9,7 @@ use host::Backend;
 use host::div_sqrt_probe;
 
 fn context(b: &Backend) -> &GpuContext {
-    match b {
-        Backend::Gpu(g) => g,
-        Backend::Cpu => panic!("gpu_backend returned the CPU backend"),
-    }
+    b.gpu().expect("gpu_backend returned the CPU backend")
 }
 
 /// The exact build's division and square root pass the probe on every adapter: this is what

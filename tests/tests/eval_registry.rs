@@ -48,7 +48,8 @@ fn chunked_cpu_backend_equals_one_batch_loop() {
 
 #[test]
 fn unknown_entry_point_is_an_error_not_zeros() {
-    let Some(host::Backend::Gpu(g)) = gpu_backend() else { return };
+    let Some(b) = gpu_backend() else { return };
+    let g = b.gpu().expect("a GPU backend");
     let e = g
         .dispatch("eval::basic::no_such_function::kernel", &[&[0u8; 8]], &[host::gpu::OutputSpec::zeroed(4)], (1, 1, 1))
         .unwrap_err();

@@ -214,7 +214,7 @@ fn hit_reprojection_beats_surface_motion_under_camera_motion() {
 #[test]
 fn parallel_scan_and_indirect_trace_match_cpu() {
     let Some(gpu) = gpu_backend() else { return };
-    let Backend::Gpu(g) = gpu else { unreachable!() };
+    let g = gpu.gpu().expect("a GPU backend");
     // Lavapipe has subgroup arithmetic: there the subgroup kernel must be loaded and tested.
     let kernels: Vec<ScanKernel> = if g.has_subgroups() {
         vec![ScanKernel::Workgroup, ScanKernel::Subgroup]

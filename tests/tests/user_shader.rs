@@ -5,7 +5,6 @@
 
 use crosscheck::{assert_bits_equal, gpu_backend, inputs};
 use host::gpu::{groups_2d, OutputSpec};
-use host::Backend;
 use shader_manifest::{Manifest, USER_SHADER_CRATES, USER_SHADER_MANIFEST_PATH, USER_SHADER_REBUILD_COMMAND, USER_SHADER_SPV_PATH};
 use std::path::PathBuf;
 
@@ -81,7 +80,7 @@ fn rows() -> Vec<f32> {
 #[test]
 fn user_shader_gpu_matches_native_bit_for_bit() {
     let Some(gpu) = gpu_backend() else { return };
-    let Backend::Gpu(g) = gpu else { panic!("gpu_backend() returned {}", gpu.describe()) };
+    let Some(g) = gpu.gpu() else { panic!("gpu_backend() returned {}", gpu.describe()) };
     let (words, _) = committed();
     // The device's denormal mode, declared in the module as for the project's own kernels.
     let words = g.denorm_policy.apply(&words).unwrap();

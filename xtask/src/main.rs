@@ -12,6 +12,7 @@ use std::process::Command;
 use std::time::Instant;
 
 mod feature_deps;
+mod launch_check;
 mod import_cycles;
 mod lavapipe;
 mod mutants;
@@ -108,6 +109,10 @@ enum Cmd {
     /// depends on clap, plotters, indicatif or image at any depth, or has no doc example in its
     /// crate documentation (xtask/src/feature_deps.rs).
     CheckDeps,
+    /// Fail if a library or binary source outside the launch mechanism (runner) and the kernel
+    /// declarations (shader-kernels) writes an entry-point name in a string literal or branches
+    /// on the backend's variant (xtask/src/launch_check.rs).
+    CheckLaunch,
     /// Pack the real-GPU check for a machine without a Rust toolchain into .gpu-bundle/ (ignored
     /// by git): the host binary and the CPU-vs-GPU test binaries, stripped and xz-compressed, the
     /// Cornell box the tests read, and `run.sh` (xtask/gpu-run.sh), which runs the tests
@@ -157,6 +162,17 @@ fn main() -> Result<()> {
             Ok(())
         }
         Cmd::CheckDeps => feature_deps::check(&workspace_root()),
+        Cmd::CheckLaunch => {
+            let faults = launch_check::scan_workspace(&workspace_root()).map_err(anyhow::Error::msg)?;
+            for f in &faults {
+                eprintln!("{f}");
+            }
+            if !faults.is_empty() {
+                bail!("{} launch(es) outside the launch mechanism", faults.len());
+            }
+            eprintln!("[check-launch] every kernel is launched through its declaration; no source branches on the backend's variant");
+            Ok(())
+        }
         Cmd::CheckCycles => {
             let cycles = import_cycles::scan_workspace(&workspace_root()).map_err(anyhow::Error::msg)?;
             for c in &cycles {

@@ -120,10 +120,7 @@ pub fn run(a: &RenderBenchArgs) -> Result<()> {
         let t0 = Instant::now();
         super::launch(g, &inputs, &warm)?;
         let first = t0.elapsed().as_secs_f64();
-        let compile = match g {
-            Backend::Gpu(ctx) => ctx.compile_seconds(super::ENTRY),
-            Backend::Cpu => None,
-        };
+        let compile = g.compile_seconds(&shader_kernels::render::PT_RENDER);
         let t = timed(g, &inputs, &p, spp)?;
         eprintln!("GPU: {:.3} M rays/s (first launch {first:.2} s)", t.img.rays / t.wall / 1e6);
         let same = t.img.digest() == all.img.digest();

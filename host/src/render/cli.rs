@@ -465,7 +465,7 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     }
     let backend = Backend::select(cmd.device)?;
     eprintln!("{}", backend.describe());
-    if let (Some(n), Backend::Gpu(_)) = (cmd.threads, &backend) {
+    if let (Some(n), true) = (cmd.threads, backend.is_gpu()) {
         bail!("--threads {n}: only the CPU backend runs on threads, and --device auto picked the GPU backend (use --device cpu)");
     }
     install_interrupt_handler()?;
@@ -497,10 +497,7 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     let stopped = img.spp < cmd.spp || interrupted();
     let mut warnings: Vec<String> = s.warnings.iter().chain(&prep.notices).cloned().collect();
     let wall = t_render.elapsed().as_secs_f64();
-    let compile = match &backend {
-        Backend::Gpu(g) => g.compile_seconds(super::ENTRY),
-        Backend::Cpu => None,
-    };
+    let compile = backend.compile_seconds(&shader_kernels::render::PT_RENDER);
     let digest = img.digest();
     eprintln!(
         "rendered {}x{} at {} spp{} in {:.3} s ({}; wall {:.3} s{}): {:.3} M rays/s, {:.3} M samples/s; image digest {digest:016x}",

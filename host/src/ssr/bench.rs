@@ -295,7 +295,7 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
             "glTF scene `{}` ({} triangles) path traced on the {} backend: colour {} spp (earlier frames {} spp), reference {} samples per glossy pixel (its own relative noise {}){}; camera cut from a view turned by 40 degrees; inputs ready in {:.1} s",
             path.display(),
             sc.counts.triangles,
-            if matches!(backend, Backend::Cpu) { "CPU" } else { "GPU" },
+            if backend.is_gpu() { "GPU" } else { "CPU" },
             a.colour_spp,
             a.history_colour_spp,
             a.reference_samples,

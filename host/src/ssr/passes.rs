@@ -283,7 +283,7 @@ fn markdown(
         .map(|ci| if same[ci].iter().all(|&b| b) { "same".into() } else { "DIFFERENT".to_string() })
         .collect();
     let _ = writeln!(s, "| reflection + specular bits | {} |", bits.join(" | "));
-    for (ri, r) in devices.iter().enumerate().filter(|(_, d)| matches!(d.backend, Backend::Cpu)) {
+    for (ri, r) in devices.iter().enumerate().filter(|(_, d)| !d.backend.is_gpu()) {
         let lines: Vec<String> = (0..devices.len())
             .filter(|&di| di != ri)
             .map(|di| against(configs.len(), &passes, &best, di, ri).describe(&devices[di].label))
