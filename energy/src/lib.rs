@@ -263,8 +263,9 @@ impl Tables {
         fileio::write_file(path, bytes)
     }
 
-    /// Read [`Tables::write_bin`]'s file (or the older GGXELUT1 form, without sample counts)
-    /// and [`Tables::validate`] it; errors name the file.
+    /// Read [`Tables::write_bin`]'s file (or the older GGXELUT1 form, without sample counts:
+    /// `samples` and `avg_samples` are then 0, and not checked) and [`Tables::validate`] it;
+    /// errors name the file.
     pub fn read_bin(path: &Path) -> Result<Tables> {
         let bytes = std::fs::read(path).with_context(|| format!("reading energy LUT {}", path.display()))?;
         let word = |c: &[u8]| u32::from_le_bytes([c[0], c[1], c[2], c[3]]);
@@ -278,9 +279,8 @@ impl Tables {
         }
         let words: Vec<f32> = body.chunks_exact(4).map(|c| f32::from_bits(word(c))).collect();
         let mut t = Tables::from_words(&words).with_context(|| format!("energy LUT {}", path.display()))?;
-        match counts {
-            Some((s, a)) => (t.samples, t.avg_samples) = (s, a),
-            None => eprintln!("warning: energy LUT {} does not record its sample count (GGXELUT1); not checked", path.display()),
+        if let Some((s, a)) = counts {
+            (t.samples, t.avg_samples) = (s, a);
         }
         t.validate().with_context(|| format!("energy LUT {} is unusable", path.display()))?;
         Ok(t)
@@ -533,9 +533,11 @@ pub fn sphere_stats(img: &FurnaceImage, spheres: u32) -> Vec<(f32, f64, f32, f32
 /// (`$XDG_CACHE_HOME` or `~/.cache`, `one-source-shading/ggx-energy-<shader source hash>.bin`),
 /// precomputed and cached there on first use (a cache that cannot be written is reported, not
 /// fatal). The precompute kernels give the same bits on every backend, so one cache serves all.
-pub fn tables_cached(backend: &Backend, lut: &Option<PathBuf>, progress: Progress) -> Result<Tables> {
+/// What a user should know but that is not an error (an unusable cache, a file without sample
+/// counts, a precompute starting) goes to `notice`.
+pub fn tables_cached(backend: &Backend, lut: &Option<PathBuf>, progress: Progress, notice: &dyn Fn(&str)) -> Result<Tables> {
     if lut.is_some() {
-        return load_or_precompute(backend, lut, progress);
+        return load_or_precompute(backend, lut, progress, notice);
     }
     let dir = std::env::var_os("XDG_CACHE_HOME")
         .filter(|v| !v.is_empty())
@@ -547,27 +549,34 @@ pub fn tables_cached(backend: &Backend, lut: &Option<PathBuf>, progress: Progres
     if let Some(f) = &file {
         if f.exists() {
             match Tables::read_bin(f) {
-                Ok(t) => return Ok(t),
-                Err(e) => eprintln!("notice: ignoring the cached tables {}: {e:#}", f.display()),
+                Ok(t) if t.samples > 0 => return Ok(t),
+                Ok(_) => notice(&format!("notice: ignoring the cached tables {}: no sample counts (GGXELUT1)", f.display())),
+                Err(e) => notice(&format!("notice: ignoring the cached tables {}: {e:#}", f.display())),
             }
         }
     }
-    eprintln!("precomputing the default energy tables (once; cached for later runs)");
+    notice("precomputing the default energy tables (once; cached for later runs)");
     let t = precompute(backend, &TableSpec::default(), progress)?.0;
     if let Some(f) = &file {
         if let Err(e) = fileio::create_parent_dir(f).and_then(|()| t.write_bin(f)) {
-            eprintln!("notice: could not cache the energy tables at {}: {e:#}", f.display());
+            notice(&format!("notice: could not cache the energy tables at {}: {e:#}", f.display()));
         }
     }
     Ok(t)
 }
 
-/// The tables at `lut`, or the default tables precomputed now.
-pub fn load_or_precompute(backend: &Backend, lut: &Option<PathBuf>, progress: Progress) -> Result<Tables> {
+/// The tables at `lut`, or the default tables precomputed now (notices as [`tables_cached`]).
+pub fn load_or_precompute(backend: &Backend, lut: &Option<PathBuf>, progress: Progress, notice: &dyn Fn(&str)) -> Result<Tables> {
     match lut {
-        Some(p) => Tables::read_bin(p),
+        Some(p) => {
+            let t = Tables::read_bin(p)?;
+            if t.samples == 0 {
+                notice(&format!("warning: energy LUT {} does not record its sample count (GGXELUT1); not checked", p.display()));
+            }
+            Ok(t)
+        }
         None => {
-            eprintln!("no --lut: precomputing the default tables");
+            notice("no LUT given: precomputing the default tables");
             Ok(precompute(backend, &TableSpec::default(), progress)?.0)
         }
     }

@@ -47,7 +47,7 @@ impl Drop for ChunkBar {
 /// [`::energy::tables_cached`] with a progress bar while it precomputes.
 pub fn tables_cached(backend: &Backend, lut: &Option<PathBuf>) -> Result<Tables> {
     let bar = ChunkBar::new();
-    ::energy::tables_cached(backend, lut, Some(&|s: &str, d: u64, t: u64| bar.report(s, d, t)))
+    ::energy::tables_cached(backend, lut, Some(&|s: &str, d: u64, t: u64| bar.report(s, d, t)), &|m: &str| eprintln!("{m}"))
 }
 
 // ---------------------------------------------------------------------------------------------

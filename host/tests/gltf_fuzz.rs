@@ -22,15 +22,11 @@ use std::path::Path;
 const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
 
 /// SplitMix64.
-struct Rng(u64);
+struct Rng(reference::splitmix::SplitMix64);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     fn below(&mut self, n: usize) -> usize {
         (self.next() % n.max(1) as u64) as usize
@@ -177,7 +173,7 @@ fn mutated_cornell_boxes_never_panic_nor_render_non_finite_pixels() {
     std::panic::set_hook(Box::new(|_| {}));
     let t0 = std::time::Instant::now();
     let seed: u64 = std::env::var("HOST_FUZZ_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(0x005e_ed42);
-    let mut rng = Rng(seed);
+    let mut rng = Rng(reference::splitmix::SplitMix64(seed));
     let (mut cases, mut loaded, mut rendered) = (0usize, 0usize, 0usize);
     let mut failures: Vec<String> = Vec::new();
     while cases < max_cases && t0.elapsed().as_secs_f64() < seconds {
@@ -256,7 +252,7 @@ fn corrupted_glb_containers_never_panic() {
     let structural: Vec<usize> = (0..20).chain(json_end..json_end + 8).collect();
     let hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
-    let mut rng = Rng(7);
+    let mut rng = Rng(reference::splitmix::SplitMix64(7));
     let (mut loaded, mut failures) = (0, Vec::new());
     let cases = 2000;
     for case in 0..cases {

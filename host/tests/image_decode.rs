@@ -10,15 +10,9 @@ use std::io::Cursor;
 
 /// Deterministic bytes (SplitMix64).
 fn noise(n: usize, seed: u64) -> Vec<u8> {
-    let mut s = seed;
+    let mut s = reference::splitmix::SplitMix64(seed);
     (0..n)
-        .map(|_| {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            (z ^ (z >> 31)) as u8
-        })
+        .map(|_| s.next_u64() as u8)
         .collect()
 }
 

@@ -75,11 +75,10 @@ fn check_bvh(s: &Scene) {
 
 /// SplitMix-style hash to [0, 1).
 fn rnd(state: &mut u64) -> f32 {
-    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    ((z ^ (z >> 31)) >> 40) as f32 * (1.0 / 16_777_216.0)
+    let mut r = reference::splitmix::SplitMix64(*state);
+    let u = r.next_f32();
+    *state = r.0;
+    u
 }
 
 /// Brute force: every triangle in buffer order, the closest accepted hit.

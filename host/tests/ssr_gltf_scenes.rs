@@ -4,34 +4,32 @@
 
 use host::render::scene::gltf_write::{look_rotation, quaternion_from_columns, GltfWriter};
 use host::render::scene::{LightKind, Material, PunctualLight, Scene};
+use host::ssr::camera::V3 as DVec3;
 use host::ssr::gltf_scenes::{cuboid, GltfScene, NAMES};
 
 const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
 
-fn rotate(q: [f32; 4], v: [f64; 3]) -> [f64; 3] {
-    let (x, y, z, w) = (q[0] as f64, q[1] as f64, q[2] as f64, q[3] as f64);
+fn rotate(q: [f32; 4], v: DVec3) -> DVec3 {
+    let (u, w) = (DVec3::new(q[0] as f64, q[1] as f64, q[2] as f64), q[3] as f64);
     // v' = v + 2 w (q x v) + 2 q x (q x v)
-    let qv = [y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0]];
-    let qqv = [y * qv[2] - z * qv[1], z * qv[0] - x * qv[2], x * qv[1] - y * qv[0]];
-    [0, 1, 2].map(|k| v[k] + 2.0 * w * qv[k] + 2.0 * qqv[k])
+    let qv = u.cross(v);
+    v + qv * (2.0 * w) + u.cross(qv) * 2.0
 }
 
 #[test]
 fn look_rotation_turns_minus_z_to_the_view_direction() {
     for (f, up) in [([0.0, 0.0, -1.0], [0.0, 1.0, 0.0]), ([1.0, -0.5, 0.2], [0.0, 1.0, 0.0]), ([0.0, -1.0, 0.0], [1.0, 0.0, 0.0]), ([-0.3, 0.1, 0.9], [0.0, 1.0, 0.0])] {
+        let (f, up) = (DVec3::from(f), DVec3::from(up));
         let q = look_rotation(f, up).unwrap();
-        let n = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-        let d = rotate(q, [0.0, 0.0, -1.0]);
-        for k in 0..3 {
-            assert!((d[k] - f[k] / n).abs() < 1e-6, "forward {f:?}: -Z goes to {d:?}");
-        }
-        let u = rotate(q, [0.0, 1.0, 0.0]);
-        assert!(u[0] * up[0] + u[1] * up[1] + u[2] * up[2] > 0.0, "up {up:?}: +Y goes to {u:?}");
+        let d = rotate(q, DVec3::NEG_Z);
+        assert!((d - f / f.length()).abs().max_element() < 1e-6, "forward {f:?}: -Z goes to {d:?}");
+        let u = rotate(q, DVec3::Y);
+        assert!(u.dot(up) > 0.0, "up {up:?}: +Y goes to {u:?}");
     }
-    assert!(look_rotation([0.0, 1.0, 0.0], [0.0, 2.0, 0.0]).is_err(), "up parallel to forward is named");
+    assert!(look_rotation(DVec3::Y, DVec3::new(0.0, 2.0, 0.0)).is_err(), "up parallel to forward is named");
     // Each branch of Shepperd's method: a rotation by pi about each axis.
     for axis in 0..3 {
-        let c = |k: usize| -> [f64; 3] { std::array::from_fn(|r| if r == k { if k == axis { 1.0 } else { -1.0 } } else { 0.0 }) };
+        let c = |k: usize| DVec3::from(std::array::from_fn::<f64, 3, _>(|r| if r == k { if k == axis { 1.0 } else { -1.0 } } else { 0.0 }));
         let q = quaternion_from_columns(c(0), c(1), c(2));
         assert!((q[axis].abs() - 1.0).abs() < 1e-6, "pi about axis {axis}: {q:?}");
     }
@@ -45,7 +43,7 @@ fn written_documents_load_back_as_written() {
     let lamp = w.material(&Material { emissive: [4.0, 2.0, 1.0], ..Material::pbr("lamp", [0.0; 3], 0.0, 1.0) });
     w.mesh(&cuboid("box", [0.0, 0.0, 0.0], [1.0, 2.0, 3.0]), red).unwrap();
     w.mesh(&cuboid("lamp", [0.0, 3.0, 0.0], [0.5, 3.1, 0.5]), lamp).unwrap();
-    w.camera("cam", [0.0, 1.0, 8.0], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0], 0.7).unwrap();
+    w.camera("cam", DVec3::new(0.0, 1.0, 8.0), DVec3::Y, DVec3::Y, 0.7).unwrap();
     let spot = PunctualLight { name: "spot".into(), kind: LightKind::Spot { inner_cone: 0.2, outer_cone: 0.5 }, position: [1.0, 4.0, 1.0], direction: [0.0, -1.0, 0.0], intensity: [10.0, 5.0, 2.5], range: 0.0 };
     w.light(&spot).unwrap();
     let path = dir.path().join("doc.gltf");

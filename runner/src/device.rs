@@ -431,8 +431,8 @@ fn padded(data: &[u8]) -> Cow<'_, [u8]> {
 }
 
 /// Split `groups` workgroups into a 2D grid within the 65535-per-dimension limit.
-/// (The kernels' own `stochastic::groups_2d`, with at least one row.)
+/// (`shader_core::dispatch::groups_2d`, with at least one row: a launch of nothing still
+/// dispatches one workgroup, whose invocations return at once.)
 pub fn groups_2d(groups: u32) -> (u32, u32) {
-    let (gx, gy) = shader_core::ssr::stochastic::groups_2d(groups);
-    (gx, gy.max(1))
+    shader_core::dispatch::groups_2d(groups.max(1))
 }

@@ -2,7 +2,8 @@
 //! with SAH leaf collapsing and reinsertion), flattened depth first with skip pointers (Smits
 //! 1998) into the scene buffer of `shader_core::pt::scene`.
 
-use super::math::{cross, dot, normalize, sub, Mat4};
+use super::math::{normalize, Mat4};
+use glam::DVec3;
 use super::{Aabb, AlphaMode, CameraDesc, LightKind, Material, MeshData, PunctualLight, Scene, SceneCounts, Texture, Wrap};
 use anyhow::{bail, Result};
 use shader_core::pt::scene as sc;
@@ -125,20 +126,20 @@ impl SceneBuilder {
             if !p.iter().all(|x| x.is_finite()) {
                 bail!("{name}: POSITION {k} is not finite: {p:?}");
             }
-            let w = transform.point(*p).map(|x| x as f32);
+            let w = transform.point(*p).as_vec3().to_array();
             if !w.iter().all(|x| x.is_finite()) {
                 bail!("{name}: POSITION {k} is not finite after its node transform: {w:?}");
             }
             world.push(w);
         }
-        let normals: Option<Vec<Option<[f32; 3]>>> = m.normals.as_ref().map(|ns| ns.iter().map(|n| normalize(transform.normal(n.map(|x| x as f64))).map(|v| v.map(|x| x as f32))).collect());
+        let normals: Option<Vec<Option<[f32; 3]>>> = m.normals.as_ref().map(|ns| ns.iter().map(|n| normalize(transform.normal(DVec3::from(n.map(|x| x as f64)))).map(|v| v.as_vec3().to_array())).collect());
         let det = transform.det3();
         let flip = det < 0.0;
         let tangents: Option<Vec<Option<[f32; 4]>>> = m.tangents.as_ref().map(|ts| {
             ts.iter()
                 .map(|t| {
                     let w = if (t[3] < 0.0) != flip { -1.0 } else { 1.0 };
-                    normalize(transform.vector([t[0] as f64, t[1] as f64, t[2] as f64])).map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, w])
+                    normalize(transform.vector(DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64))).map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, w])
                 })
                 .collect()
         });
@@ -158,9 +159,9 @@ impl SceneBuilder {
                 ix.swap(1, 2);
             }
             let v = ix.map(|i| world[i]);
-            let vd = v.map(|p| p.map(|x| x as f64));
-            let area2 = cross(sub(vd[1], vd[0]), sub(vd[2], vd[0]));
-            if dot(area2, area2) == 0.0 {
+            let vd = v.map(|p| DVec3::from(p.map(|x| x as f64)));
+            let area2 = (vd[1] - vd[0]).cross(vd[2] - vd[0]);
+            if area2.dot(area2) == 0.0 {
                 self.degenerate += 1;
                 continue;
             }
@@ -227,9 +228,9 @@ impl SceneBuilder {
             let t = &self.tris[i as usize];
             let m = &self.materials[t.material as usize];
             if m.is_emissive() {
-                let vd = t.v.map(|p| p.map(|x| x as f64));
-                let c = cross(sub(vd[1], vd[0]), sub(vd[2], vd[0]));
-                let area = 0.5 * dot(c, c).sqrt();
+                let vd = t.v.map(|p| DVec3::from(p.map(|x| x as f64)));
+                let c = (vd[1] - vd[0]).cross(vd[2] - vd[0]);
+                let area = 0.5 * c.length();
                 let mut w = [0u32; sc::LIGHT_WORDS];
                 w[sc::L_TYPE] = sc::LIGHT_TRIANGLE;
                 w[sc::L_TRIANGLE] = k as u32;
@@ -374,20 +375,20 @@ impl SceneBuilder {
 /// Per-triangle tangent from positions and texture coordinates (Lengyel 2001, "Computing
 /// tangent space basis vectors"), with glTF's v-down texture coordinates: the bitangent points
 /// towards -v. `None` where the uv map is degenerate.
-fn triangle_tangent(v: [[f64; 3]; 3], uv: [[f32; 2]; 3], normal: [f64; 3]) -> Option<[f32; 4]> {
-    let e1 = sub(v[1], v[0]);
-    let e2 = sub(v[2], v[0]);
+fn triangle_tangent(v: [DVec3; 3], uv: [[f32; 2]; 3], normal: DVec3) -> Option<[f32; 4]> {
+    let e1 = v[1] - v[0];
+    let e2 = v[2] - v[0];
     let (du1, dv1) = (uv[1][0] as f64 - uv[0][0] as f64, uv[1][1] as f64 - uv[0][1] as f64);
     let (du2, dv2) = (uv[2][0] as f64 - uv[0][0] as f64, uv[2][1] as f64 - uv[0][1] as f64);
     let det = du1 * dv2 - du2 * dv1;
     if det == 0.0 || !det.is_finite() {
         return None;
     }
-    let t = [0, 1, 2].map(|k| (e1[k] * dv2 - e2[k] * dv1) / det);
-    let b = [0, 1, 2].map(|k| -(e2[k] * du1 - e1[k] * du2) / det);
+    let t = DVec3::from([0, 1, 2].map(|k| (e1[k] * dv2 - e2[k] * dv1) / det));
+    let b = DVec3::from([0, 1, 2].map(|k| -(e2[k] * du1 - e1[k] * du2) / det));
     let n = normalize(normal)?;
-    let t = normalize(sub(t, n.map(|x| x * dot(n, t))))?;
-    let w = if dot(cross(n, t), b) < 0.0 { -1.0 } else { 1.0 };
+    let t = normalize(t - n * n.dot(t))?;
+    let w = if n.cross(t).dot(b) < 0.0 { -1.0 } else { 1.0 };
     Some([t[0] as f32, t[1] as f32, t[2] as f32, w])
 }
 

@@ -8,7 +8,8 @@
 //! 0.13 rest on the floor at x = -0.75 + 0.3 i (roughness 0.2 i); the camera "default" is at
 //! (0, 1, 3.4) looking down -z with a 40 degree vertical field of view.
 
-use super::math::{cross, dot, sub, Mat4};
+use super::math::Mat4;
+use glam::DVec3;
 use super::{CameraDesc, Material, MeshData, Projection, Scene, SceneBuilder};
 
 /// Latitude bands per sphere of the default built-in scene (11.5k triangles).
@@ -32,9 +33,9 @@ pub fn builtin_detail_for_triangles(triangles: usize) -> u32 {
 
 /// Two triangles of the quad p0 p1 p2 p3 (in order around it), wound to face `normal`.
 fn quad(name: &str, p: [[f32; 3]; 4], normal: [f64; 3]) -> MeshData {
-    let pd = p.map(|v| v.map(|x| x as f64));
-    let c = cross(sub(pd[1], pd[0]), sub(pd[2], pd[0]));
-    let indices = if dot(c, normal) > 0.0 { vec![0, 1, 2, 0, 2, 3] } else { vec![0, 2, 1, 0, 3, 2] };
+    let pd = p.map(|v| DVec3::from(v.map(|x| x as f64)));
+    let c = (pd[1] - pd[0]).cross(pd[2] - pd[0]);
+    let indices = if c.dot(DVec3::from(normal)) > 0.0 { vec![0, 1, 2, 0, 2, 3] } else { vec![0, 2, 1, 0, 3, 2] };
     let n = normal.map(|x| x as f32);
     MeshData {
         name: name.into(),
@@ -74,10 +75,10 @@ pub fn uv_sphere(name: &str, r: f32, bands: u32) -> MeshData {
     let at = |j: usize, i: usize| (j * (nu + 1) + i) as u32;
     let mut indices = Vec::new();
     let mut push = |a: u32, b: u32, c: u32| {
-        let p = |k: u32| positions[k as usize].map(|x| x as f64);
-        let n = cross(sub(p(b), p(a)), sub(p(c), p(a)));
-        let centre = [0, 1, 2].map(|k| p(a)[k] + p(b)[k] + p(c)[k]);
-        if dot(n, centre) >= 0.0 {
+        let p = |k: u32| DVec3::from(positions[k as usize].map(|x| x as f64));
+        let n = (p(b) - p(a)).cross(p(c) - p(a));
+        let centre = p(a) + p(b) + p(c);
+        if n.dot(centre) >= 0.0 {
             indices.extend([a, b, c]);
         } else {
             indices.extend([a, c, b]);
@@ -126,8 +127,8 @@ pub fn cornell_spheres(detail: u32) -> Scene {
         let x = -0.75 + 0.3 * i as f64;
         let gold = b.material(Material::pbr(&format!("gold {roughness:.1}"), [1.0, 0.78, 0.34], 1.0, roughness));
         let blue = b.material(Material::pbr(&format!("blue plastic {roughness:.1}"), [0.05, 0.15, 0.6], 0.0, roughness));
-        b.mesh(&sphere, gold, &Mat4::translation([x, RADIUS as f64, 0.35])).expect("built-in sphere");
-        b.mesh(&sphere, blue, &Mat4::translation([x, RADIUS as f64, -0.3])).expect("built-in sphere");
+        b.mesh(&sphere, gold, &Mat4::translation(DVec3::new(x, RADIUS as f64, 0.35))).expect("built-in sphere");
+        b.mesh(&sphere, blue, &Mat4::translation(DVec3::new(x, RADIUS as f64, -0.3))).expect("built-in sphere");
     }
     b.camera(CameraDesc {
         name: "default".into(),

@@ -21,6 +21,7 @@
 //! against the specification's bounds, naming the JSON path of each fault.
 
 use super::math::{normalize, Mat4};
+use glam::DVec3;
 use super::{AlphaMode, CameraDesc, LightKind, Material, MeshData, Projection, PunctualLight, Scene, SceneBuilder, Texture, Wrap};
 use anyhow::{anyhow, bail, Context, Result};
 use gltf::mesh::Mode;
@@ -337,27 +338,27 @@ impl<'a> Loader<'a> {
                 self.primitive(&mesh, &p, &world)?;
             }
         }
-        let origin = world.point([0.0; 3]).map(|x| x as f32);
-        let axis = |v: [f64; 3]| normalize(world.vector(v));
+        let origin = world.point([0.0; 3]).as_vec3().to_array();
+        let axis = |v: DVec3| normalize(world.vector(v));
         if let Some(cam) = node.camera() {
             if !origin.iter().all(|x| x.is_finite()) {
                 bail!("{}: node {}{nname}: its camera is at a non-finite position {origin:?} after the node transforms (nodes[{}])", self.file, node.index(), node.index());
             }
-            let f = axis([0.0, 0.0, -1.0]).ok_or_else(|| anyhow!("{}: node {}{nname}: its camera's transform is singular", self.file, node.index()))?;
-            let u0 = world.vector([0.0, 1.0, 0.0]);
-            let d = super::math::dot(u0, f);
-            let up = normalize([u0[0] - f[0] * d, u0[1] - f[1] * d, u0[2] - f[2] * d]).ok_or_else(|| anyhow!("{}: node {}{nname}: its camera's transform is singular", self.file, node.index()))?;
+            let f = axis(DVec3::NEG_Z).ok_or_else(|| anyhow!("{}: node {}{nname}: its camera's transform is singular", self.file, node.index()))?;
+            let u0 = world.vector(DVec3::Y);
+            let d = u0.dot(f);
+            let up = normalize(u0 - f * d).ok_or_else(|| anyhow!("{}: node {}{nname}: its camera's transform is singular", self.file, node.index()))?;
             let projection = match cam.projection() {
                 gltf::camera::Projection::Perspective(p) => Projection::Perspective { yfov: p.yfov(), aspect: p.aspect_ratio() },
                 gltf::camera::Projection::Orthographic(o) => Projection::Orthographic { xmag: o.xmag(), ymag: o.ymag() },
             };
             let name = cam.name().or(node.name()).map(str::to_string).unwrap_or_else(|| format!("camera {}", cam.index()));
-            self.b.camera(CameraDesc { name, position: origin, forward: f.map(|x| x as f32), up: up.map(|x| x as f32), projection });
+            self.b.camera(CameraDesc { name, position: origin, forward: f.as_vec3().to_array(), up: up.as_vec3().to_array(), projection });
         }
         if let Some(light) = node.light() {
             let directed = !matches!(light.kind(), gltf::khr_lights_punctual::Kind::Point);
-            let dir = match axis([0.0, 0.0, -1.0]) {
-                Some(d) => d.map(|x| x as f32),
+            let dir = match axis(DVec3::NEG_Z) {
+                Some(d) => d.as_vec3().to_array(),
                 // a point light has no direction: the word is unused
                 None if !directed => [0.0, 0.0, -1.0],
                 None => bail!("{}: node {}{nname}: its light {} has no direction: the node's transform is singular (nodes[{}])", self.file, node.index(), light.index(), node.index()),

@@ -7,6 +7,7 @@
 //! carry the rotation that turns their local -Z to the given direction, glTF 2.0 section 3.10.1
 //! and the extension's spec).
 
+use glam::DVec3;
 use super::{LightKind, Material, MeshData, PunctualLight};
 use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
@@ -27,7 +28,7 @@ pub struct GltfWriter {
 
 /// The unit quaternion (x, y, z, w) of the rotation with matrix columns `c0, c1, c2`
 /// (Shepperd's method: the largest of the four candidates is divided by).
-pub fn quaternion_from_columns(c0: [f64; 3], c1: [f64; 3], c2: [f64; 3]) -> [f32; 4] {
+pub fn quaternion_from_columns(c0: DVec3, c1: DVec3, c2: DVec3) -> [f32; 4] {
     let m = |r: usize, c: usize| [c0, c1, c2][c][r];
     let tr = m(0, 0) + m(1, 1) + m(2, 2);
     let q = if tr > 0.0 {
@@ -47,27 +48,18 @@ pub fn quaternion_from_columns(c0: [f64; 3], c1: [f64; 3], c2: [f64; 3]) -> [f32
     q.map(|v| (v / n) as f32)
 }
 
-fn normalize(v: [f64; 3]) -> [f64; 3] {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|x| x / n)
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
 /// The node rotation whose local -Z is `forward` and whose local +Y is as close to `up` as
 /// possible (`up` must not be parallel to `forward`).
-pub fn look_rotation(forward: [f64; 3], up: [f64; 3]) -> Result<[f32; 4]> {
-    let f = normalize(forward);
-    let r = cross(f, up);
-    let rn = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-    if !(rn > 1e-9) || f.iter().any(|v| !v.is_finite()) {
+pub fn look_rotation(forward: DVec3, up: DVec3) -> Result<[f32; 4]> {
+    let f = forward / forward.length();
+    let r = f.cross(up);
+    let rn = r.length();
+    if !(rn > 1e-9) || !f.is_finite() {
         bail!("look direction {forward:?} with up {up:?}: not a valid frame (zero or parallel)");
     }
-    let r = r.map(|x| x / rn);
-    let u = cross(r, f);
-    Ok(quaternion_from_columns(r, u, f.map(|x| -x)))
+    let r = r / rn;
+    let u = r.cross(f);
+    Ok(quaternion_from_columns(r, u, -f))
 }
 
 impl GltfWriter {
@@ -155,11 +147,10 @@ impl GltfWriter {
 
     /// A perspective camera at `eye` looking at `target` (vertical field of view `yfov`
     /// radians, no aspect ratio: the image's is used).
-    pub fn camera(&mut self, name: &str, eye: [f64; 3], target: [f64; 3], up: [f64; 3], yfov: f32) -> Result<()> {
-        let f = [target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]];
-        let q = look_rotation(f, up).with_context(|| format!("camera {name:?}"))?;
+    pub fn camera(&mut self, name: &str, eye: DVec3, target: DVec3, up: DVec3, yfov: f32) -> Result<()> {
+        let q = look_rotation(target - eye, up).with_context(|| format!("camera {name:?}"))?;
         self.cameras.push(json!({"name": name, "type": "perspective", "perspective": {"yfov": yfov, "znear": 0.01}}));
-        self.nodes.push(json!({"name": name, "camera": self.cameras.len() - 1, "translation": eye, "rotation": q}));
+        self.nodes.push(json!({"name": name, "camera": self.cameras.len() - 1, "translation": eye.to_array(), "rotation": q}));
         Ok(())
     }
 
@@ -185,8 +176,8 @@ impl GltfWriter {
         self.lights.push(v);
         let mut node = json!({"name": l.name, "extensions": {"KHR_lights_punctual": {"light": self.lights.len() - 1}}});
         if l.kind != LightKind::Point {
-            let d = l.direction.map(|x| x as f64);
-            let up = if d[1].abs() > 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+            let d = DVec3::from(l.direction.map(|x| x as f64));
+            let up = if d[1].abs() > 0.9 { DVec3::X } else { DVec3::Y };
             node["rotation"] = json!(look_rotation(d, up).with_context(|| format!("light {:?}", l.name))?);
         }
         if l.kind != LightKind::Directional {

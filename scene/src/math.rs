@@ -1,5 +1,8 @@
 //! Host-side affine transforms of glTF nodes (glTF 2.0 section 3.5.3 "Transformations"),
-//! in f64; results are rounded to f32 once, when the scene buffer is written.
+//! in f64 (glam's `DVec3`, the host's one f64 vector); results are rounded to f32 once, when the
+//! scene buffer is written.
+
+use glam::DVec3;
 
 /// A 4x4 matrix, column-major as glTF stores it: `m[c][r]` is row `r` of column `c`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,9 +24,9 @@ impl Mat4 {
     }
 
     /// A translation.
-    pub fn translation(t: [f64; 3]) -> Mat4 {
+    pub fn translation(t: DVec3) -> Mat4 {
         let mut m = Mat4::IDENTITY;
-        m.0[3] = [t[0], t[1], t[2], 1.0];
+        m.0[3] = [t.x, t.y, t.z, 1.0];
         m
     }
 
@@ -62,16 +65,16 @@ impl Mat4 {
     }
 
     /// The affine image of point `p`.
-    pub fn point(&self, p: [f32; 3]) -> [f64; 3] {
+    pub fn point(&self, p: [f32; 3]) -> DVec3 {
         let m = &self.0;
         let p = p.map(|x| x as f64);
-        [0, 1, 2].map(|r| m[0][r] * p[0] + m[1][r] * p[1] + m[2][r] * p[2] + m[3][r])
+        DVec3::from([0, 1, 2].map(|r| m[0][r] * p[0] + m[1][r] * p[1] + m[2][r] * p[2] + m[3][r]))
     }
 
     /// The image of direction `v` (upper 3x3).
-    pub fn vector(&self, v: [f64; 3]) -> [f64; 3] {
+    pub fn vector(&self, v: DVec3) -> DVec3 {
         let m = &self.0;
-        [0, 1, 2].map(|r| m[0][r] * v[0] + m[1][r] * v[1] + m[2][r] * v[2])
+        DVec3::from([0, 1, 2].map(|r| m[0][r] * v[0] + m[1][r] * v[1] + m[2][r] * v[2]))
     }
 
     /// Determinant of the upper 3x3 (negative: the transform mirrors, flipping the winding).
@@ -83,7 +86,7 @@ impl Mat4 {
     /// The normal matrix, the inverse transpose of the upper 3x3, as a function of a normal
     /// (computed from the cofactors, so it is the inverse transpose times det: normalise after).
     /// Multiplied by sign(det) so normals keep their side under mirroring transforms.
-    pub fn normal(&self, n: [f64; 3]) -> [f64; 3] {
+    pub fn normal(&self, n: DVec3) -> DVec3 {
         let m = &self.0;
         let a = |c: usize, r: usize| m[c][r];
         // cofactor matrix C (C = det * inverse transpose)
@@ -98,33 +101,19 @@ impl Mat4 {
         let c22 = a(0, 0) * a(1, 1) - a(1, 0) * a(0, 1);
         // cRC is the cofactor of row R, column C; (M^-T n)_r = sum_c cRc n_c / det
         let s = if self.det3() < 0.0 { -1.0 } else { 1.0 };
-        [c00 * n[0] + c01 * n[1] + c02 * n[2], c10 * n[0] + c11 * n[1] + c12 * n[2], c20 * n[0] + c21 * n[1] + c22 * n[2]].map(|x| x * s)
+        DVec3::new(c00 * n[0] + c01 * n[1] + c02 * n[2], c10 * n[0] + c11 * n[1] + c12 * n[2], c20 * n[0] + c21 * n[1] + c22 * n[2]) * s
     }
 }
 
-/// `v / |v|`, or `None` for a zero or non-finite vector.
-pub fn normalize(v: [f64; 3]) -> Option<[f64; 3]> {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+/// `v / |v|` (each component divided by the length, unlike glam's `try_normalize`, which
+/// multiplies by its reciprocal), or `None` for a zero or non-finite vector.
+pub fn normalize(v: DVec3) -> Option<DVec3> {
+    let l = v.length();
     if l > 0.0 && l.is_finite() {
-        Some(v.map(|x| x / l))
+        Some(v / l)
     } else {
         None
     }
-}
-
-/// a x b.
-pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-/// a - b.
-pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// a . b.
-pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 #[cfg(test)]
@@ -135,14 +124,14 @@ mod tests {
     fn normal_matrix_is_the_inverse_transpose() {
         let m = Mat4::from_trs([1.0, 2.0, 3.0], [0.2, 0.3, -0.1, 0.927_361_8], [2.0, 0.5, -3.0]);
         // a tangent t of a surface with normal n stays orthogonal to the transformed normal
-        let n = [0.3, -0.4, 0.866];
-        let t = normalize(cross(n, [1.0, 0.0, 0.0])).unwrap();
+        let n = DVec3::new(0.3, -0.4, 0.866);
+        let t = normalize(n.cross(DVec3::X)).unwrap();
         let nn = m.normal(n);
-        assert!(dot(nn, m.vector(t)).abs() < 1e-12);
+        assert!(nn.dot(m.vector(t)).abs() < 1e-12);
         // keeps its side for a mirroring transform: same side as the transformed geometric normal
-        let u = cross(n, t);
-        let geo = cross(m.vector(t), m.vector(u));
+        let u = n.cross(t);
+        let geo = m.vector(t).cross(m.vector(u));
         assert!(m.det3() < 0.0);
-        assert!(dot(nn, geo) < 0.0, "mirrored: the winding flips, the normal keeps its side of the surface");
+        assert!(nn.dot(geo) < 0.0, "mirrored: the winding flips, the normal keeps its side of the surface");
     }
 }

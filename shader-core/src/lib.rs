@@ -66,7 +66,9 @@
 pub mod buffer;
 pub mod bxdf;
 pub mod complex;
+pub mod dispatch;
 pub mod energy;
+pub mod frame;
 pub mod fresnel;
 pub mod ieee;
 pub mod masking;

@@ -87,11 +87,8 @@ fn sqrt_all_bit_patterns() {
 }
 
 /// SplitMix64: one independent stream per pair index.
-fn mix(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
+fn mix(z: u64) -> u64 {
+    reference::splitmix::SplitMix64::mix(z)
 }
 
 const SPECIAL: [u32; 16] = [

@@ -46,15 +46,11 @@ fn ulps(a: f32, b: f32) -> u64 {
 }
 
 /// Deterministic generator (SplitMix64).
-struct Rng(u64);
+struct Rng(reference::splitmix::SplitMix64);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     /// Uniform in [0, 1).
     fn unit(&mut self) -> f64 {
@@ -243,7 +239,7 @@ fn mix(
     hi: f64,
     signed: bool,
 ) -> Vec<f32> {
-    let mut r = Rng(seed);
+    let mut r = Rng(reference::splitmix::SplitMix64(seed));
     let mut v = Vec::with_capacity(n_uniform + n_log + 64);
     for i in 0..n_uniform {
         // half a regular grid, half random
@@ -280,7 +276,7 @@ fn near_multiples_of_pio2() -> Vec<f32> {
 /// Floats with |x| above the Cody-Waite range, log-spaced up to f32::MAX, plus large floats
 /// nearest to multiples of pi/2 found by continued steps of the exponent.
 fn large_args() -> Vec<f32> {
-    let mut r = Rng(77);
+    let mut r = Rng(reference::splitmix::SplitMix64(77));
     let mut v: Vec<f32> = (0..1_000_000)
         .map(|_| r.log_uniform(1.03e5, 3.4e38, true))
         .collect();
@@ -311,7 +307,7 @@ fn rows() -> Vec<Row> {
     };
     let asin_in = || {
         let mut v = mix(4, 1_000_000, -1.0, 1.0, 500_000, 1e-45, 1.0, true);
-        let mut r = Rng(5);
+        let mut r = Rng(reference::splitmix::SplitMix64(5));
         for _ in 0..300_000 {
             // close to +-1
             let d = r.log_uniform(6e-8, 0.5, false);
@@ -346,7 +342,7 @@ fn rows() -> Vec<Row> {
     };
     let log1p_in = || {
         let mut v = mix(10, 1_000_000, -1.0, 2.0, 1_000_000, 1e-45, 3.4e38, false);
-        let mut r = Rng(11);
+        let mut r = Rng(reference::splitmix::SplitMix64(11));
         for _ in 0..200_000 {
             v.push(-r.log_uniform(1e-45, 1.0, false));
         }
@@ -364,7 +360,7 @@ fn rows() -> Vec<Row> {
         v
     };
     let atan2_in = || {
-        let mut r = Rng(14);
+        let mut r = Rng(reference::splitmix::SplitMix64(14));
         let mut v = Vec::with_capacity(2_100_000);
         for _ in 0..1_000_000 {
             // direction uniform in angle, radius log-uniform
@@ -388,7 +384,7 @@ fn rows() -> Vec<Row> {
     };
     let pow_main = || {
         // x > 0 anywhere, y such that |y log2 x| <= 150 (results from denormal to overflow)
-        let mut r = Rng(15);
+        let mut r = Rng(reference::splitmix::SplitMix64(15));
         let mut v = Vec::with_capacity(2_000_000);
         for i in 0..2_000_000 {
             let x = if i % 2 == 0 {
@@ -864,7 +860,7 @@ fn special_values_of_atan2_and_pow_match_c99_bit_for_bit() {
 
 #[test]
 fn rounding_helpers_match_std_bit_for_bit() {
-    let mut r = Rng(99);
+    let mut r = Rng(reference::splitmix::SplitMix64(99));
     let mut v = specials();
     for i in -40..=40 {
         v.push(i as f32 * 0.25);

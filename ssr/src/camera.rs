@@ -14,35 +14,16 @@ pub struct Camera {
     pub near: f32,
 }
 
-pub type V3 = [f64; 3];
-
-pub fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-pub fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-pub fn scale(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-pub fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-pub fn cross(a: V3, b: V3) -> V3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-pub fn normalize(a: V3) -> V3 {
-    let l = dot(a, a).sqrt();
-    scale(a, 1.0 / l)
-}
+/// The f64 vector of the SSR scenes, cameras and reference (glam's, as everywhere on the host).
+pub type V3 = glam::DVec3;
 
 impl Camera {
     /// A camera at `eye` looking at `target` with `up` roughly up.
     pub fn look_at(eye: V3, target: V3, up: V3, fov_y_degrees: f32, near: f32) -> Camera {
-        let f = normalize(sub(target, eye));
-        let r = normalize(cross(up, f));
-        let u = cross(f, r);
-        let row = |a: V3| [a[0] as f32, a[1] as f32, a[2] as f32, -dot(a, eye) as f32];
+        let f = (target - eye).normalize();
+        let r = up.cross(f).normalize();
+        let u = f.cross(r);
+        let row = |a: V3| [a[0] as f32, a[1] as f32, a[2] as f32, -a.dot(eye) as f32];
         let (r0, r1, r2) = (row(r), row(u), row(f));
         Camera {
             world_to_view: [
@@ -118,7 +99,7 @@ impl Camera {
         for (k, ek) in e.iter_mut().enumerate() {
             *ek = -(m[k] as f64 * t[0] + m[4 + k] as f64 * t[1] + m[8 + k] as f64 * t[2]);
         }
-        e
+        V3::from(e)
     }
 
     /// World-space direction (unit) of the primary ray through screen point (sx, sy).
@@ -134,7 +115,7 @@ impl Camera {
         for (k, wk) in w.iter_mut().enumerate() {
             *wk = m[k] as f64 * dv[0] + m[4 + k] as f64 * dv[1] + m[8 + k] as f64 * dv[2];
         }
-        normalize(w)
+        V3::from(w).normalize()
     }
 
     /// World point to view space.
@@ -144,7 +125,7 @@ impl Camera {
         for (i, vi) in v.iter_mut().enumerate() {
             *vi = m[4 * i] as f64 * p[0] + m[4 * i + 1] as f64 * p[1] + m[4 * i + 2] as f64 * p[2] + m[4 * i + 3] as f64;
         }
-        v
+        V3::from(v)
     }
 
     /// Screen position (pixels) of a view-space point with z > 0.
@@ -167,7 +148,7 @@ impl Camera {
         let m = self.world_to_view;
         let d = [v[0] - m[3] as f64, v[1] - m[7] as f64, v[2] - m[11] as f64];
         // world = R^T (v - t)
-        std::array::from_fn(|k| m[k] as f64 * d[0] + m[4 + k] as f64 * d[1] + m[8 + k] as f64 * d[2])
+        V3::from(std::array::from_fn::<f64, 3, _>(|k| m[k] as f64 * d[0] + m[4 + k] as f64 * d[1] + m[8 + k] as f64 * d[2]))
     }
 
     /// [`Camera::motion`] of the point a G-buffer stores at screen point (sx, sy): at linear
@@ -190,7 +171,7 @@ impl Camera {
             Some(p) => previous.to_view(p),
             None => {
                 let d = self.ray_dir(width, height, sx, sy);
-                sub(previous.to_view(add(previous.eye(), d)), previous.to_view(previous.eye()))
+                previous.to_view(previous.eye() + d) - previous.to_view(previous.eye())
             }
         };
         if !(v[2] > 1e-9) {

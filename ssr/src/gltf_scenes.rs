@@ -15,6 +15,7 @@
 //! Each scene also names its environment (a uniform sky radiance: the reference's fallback) and
 //! its camera path; [`GltfScene::write`] writes the files, so `host render` can render them too.
 
+use crate::camera::V3;
 use ::scene::gltf_write::GltfWriter;
 use ::scene::{uv_sphere, LightKind, Material, MeshData, PunctualLight};
 use anyhow::{bail, Context, Result};
@@ -176,7 +177,7 @@ fn pillars() -> Result<GltfWriter> {
     add(&mut w, sphere("gold sphere", [0.0, 0.3, -2.2], 0.3), &Material::pbr("gold", [1.0, 0.78, 0.34], 1.0, 0.1))?;
     add(&mut w, sphere("red sphere", [1.2, 0.3, -2.2], 0.3), &Material::pbr("red", [0.8, 0.1, 0.1], 0.0, 0.5))?;
     w.light(&PunctualLight { name: "sun".into(), kind: LightKind::Directional, position: [0.0; 3], direction: [-0.35, -0.8, -0.5], intensity: [2.8, 2.6, 2.3], range: 0.0 })?;
-    w.camera("camera", [0.0, 1.1, 3.4], [0.0, 0.45, -1.2], [0.0, 1.0, 0.0], 0.75)?;
+    w.camera("camera", V3::new(0.0, 1.1, 3.4), V3::new(0.0, 0.45, -1.2), V3::Y, 0.75)?;
     Ok(w)
 }
 
@@ -196,7 +197,7 @@ fn orbit() -> Result<GltfWriter> {
     }
     w.light(&PunctualLight { name: "sun".into(), kind: LightKind::Directional, position: [0.0; 3], direction: [0.4, -0.75, -0.3], intensity: [2.5, 2.4, 2.2], range: 0.0 })?;
     w.light(&PunctualLight { name: "lamp".into(), kind: LightKind::Point, position: [0.0, 2.6, 1.0], direction: [0.0, -1.0, 0.0], intensity: [6.0, 5.0, 4.0], range: 0.0 })?;
-    w.camera("camera", [0.0, 1.5, 4.8], [0.0, 0.35, 0.0], [0.0, 1.0, 0.0], 0.8)?;
+    w.camera("camera", V3::new(0.0, 1.5, 4.8), V3::new(0.0, 0.35, 0.0), V3::Y, 0.8)?;
     Ok(w)
 }
 

@@ -12,7 +12,7 @@
 //! (mix(0.04, base colour, metalness), f90 = 1): what the reflection times the preintegrated FG
 //! term (`shader_core::ssr::specular`) approximates.
 
-use super::camera::{add, dot, normalize, scale, sub, V3};
+use super::camera::V3;
 use super::gbuffer::GBuffer;
 use super::scene::{basis, Scene};
 use rayon::prelude::*;
@@ -77,10 +77,10 @@ fn lambda(c: f64, alpha: f64) -> f64 {
 
 /// Heitz 2018 VNDF sample in the local frame (v.z > 0), f64.
 fn sample_vndf(v: V3, alpha: f64, u1: f64, u2: f64) -> V3 {
-    let vh = normalize([alpha * v[0], alpha * v[1], v[2]]);
+    let vh = V3::new(alpha * v[0], alpha * v[1], v[2]).normalize();
     let lensq = vh[0] * vh[0] + vh[1] * vh[1];
-    let t1 = if lensq > 0.0 { scale([-vh[1], vh[0], 0.0], 1.0 / lensq.sqrt()) } else { [1.0, 0.0, 0.0] };
-    let t2 = [vh[1] * t1[2] - vh[2] * t1[1], vh[2] * t1[0] - vh[0] * t1[2], vh[0] * t1[1] - vh[1] * t1[0]];
+    let t1 = if lensq > 0.0 { V3::new(-vh[1], vh[0], 0.0) * (1.0 / lensq.sqrt()) } else { V3::X };
+    let t2 = vh.cross(t1);
     let r = u1.sqrt();
     let phi = 2.0 * std::f64::consts::PI * u2;
     let p1 = r * phi.cos();
@@ -88,8 +88,8 @@ fn sample_vndf(v: V3, alpha: f64, u1: f64, u2: f64) -> V3 {
     let s = 0.5 * (1.0 + vh[2]);
     p2 = (1.0 - s) * (1.0 - p1 * p1).sqrt() + s * p2;
     let pz = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-    let nh = add(add(scale(t1, p1), scale(t2, p2)), scale(vh, pz));
-    normalize([alpha * nh[0], alpha * nh[1], nh[2].max(0.0)])
+    let nh = ((t1 * p1) + (t2 * p2)) + (vh * pz);
+    V3::new(alpha * nh[0], alpha * nh[1], nh[2].max(0.0)).normalize()
 }
 
 fn hash64(mut x: u64) -> u64 {
@@ -111,7 +111,7 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
     let cam = gb.camera;
     let eye = cam.eye();
     let strata = (samples as f64).sqrt().round().max(1.0) as u32;
-    let sky = [scene.sky[0] as f64, scene.sky[1] as f64, scene.sky[2] as f64];
+    let sky = V3::new(scene.sky[0] as f64, scene.sky[1] as f64, scene.sky[2] as f64);
     let sky_f32 = scene.sky;
     let rows: Vec<([f32; 3], [f32; 3], f32, bool, [f32; 2], [f32; 3], [f32; 3])> = (0..w * h)
         .into_par_iter()
@@ -129,15 +129,15 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
                 return none;
             }
             let n = hit.n;
-            let v = scale(d, -1.0);
-            let nv = dot(n, v);
+            let v = d * -1.0;
+            let nv = n.dot(v);
             if nv <= 0.0 {
                 return none;
             }
             let alpha = f64::from(rough) * f64::from(rough);
             let (t, b) = basis(n);
-            let vl = [dot(v, t), dot(v, b), nv];
-            let origin = add(hit.p, scale(n, 1e-6));
+            let vl = V3::new(v.dot(t), v.dot(b), nv);
+            let origin = hit.p + (n * (1e-6));
             let mut acc_all = [0.0; 3];
             let mut acc_on = [0.0; 3];
             let mut acc_same = 0.0;
@@ -151,18 +151,18 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
             for k in 0..count {
                 let mut vh = nv;
                 let l = if rough == 0.0 {
-                    sub(scale(n, 2.0 * nv), v)
+                    (n * (2.0 * nv)) - v
                 } else {
                     let hsh = hash64((i as u64) << 20 ^ k as u64);
                     let (sx, sy) = ((k % strata) as f64, (k / strata) as f64);
                     let u1 = (sx + unit(hsh)) / strata as f64;
                     let u2 = (sy + unit(hash64(hsh))) / strata as f64;
                     let m_l = sample_vndf(vl, alpha, u1, u2);
-                    let m_w = add(add(scale(t, m_l[0]), scale(b, m_l[1])), scale(n, m_l[2]));
-                    vh = dot(v, m_w);
-                    sub(scale(m_w, 2.0 * vh), v)
+                    let m_w = ((t * m_l[0]) + (b * m_l[1])) + (n * m_l[2]);
+                    vh = v.dot(m_w);
+                    (m_w * (2.0 * vh)) - v
                 };
-                let nl = dot(n, l);
+                let nl = n.dot(l);
                 if nl <= 0.0 {
                     continue;
                 }
@@ -181,9 +181,9 @@ pub fn render_reference(scene: &Scene, gb: &GBuffer, max_roughness: f32, samples
                         if vv[2] > f64::from(cam.near) {
                             let (px, py) = cam.view_to_screen(w, h, vv);
                             if px >= 0.0 && py >= 0.0 && px < w as f64 && py < h as f64 {
-                                let to = sub(rh.p, eye);
-                                let dist = dot(to, to).sqrt();
-                                if let Some(vh) = scene.cast(eye, scale(to, 1.0 / dist), 1e-9) {
+                                let to = rh.p - eye;
+                                let dist = to.dot(to).sqrt();
+                                if let Some(vh) = scene.cast(eye, to * (1.0 / dist), 1e-9) {
                                     on = (vh.t - dist).abs() <= 1e-6 * dist.max(1.0) * 10.0;
                                 }
                                 if on && rough == 0.0 {

@@ -15,7 +15,7 @@
 //! first hit (for the sky, its direction) into that frame.
 
 use render::{CameraSpec, RenderInputs};
-use crate::camera::Camera as SsrCamera;
+use crate::camera::{Camera as SsrCamera, V3};
 use crate::gbuffer::{GBuffer, ReferenceFile};
 use crate::reference::Reference;
 use anyhow::{bail, Context, Result};
@@ -78,8 +78,8 @@ pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBuff
 }
 
 /// A glTF-world vector in the G-buffer's (x-mirrored) world.
-pub fn mirror(v: [f64; 3]) -> [f64; 3] {
-    [-v[0], v[1], v[2]]
+pub fn mirror(v: V3) -> V3 {
+    V3::new(-v.x, v.y, v.z)
 }
 
 /// The SSR camera of a perspective kernel camera, in the mirrored world, with near plane `near`.
@@ -87,7 +87,7 @@ pub fn ssr_camera(c: &Camera, near: f32) -> Result<SsrCamera> {
     if c.kind == ORTHOGRAPHIC {
         bail!("--gbuffer needs a perspective camera (the SSR pipelines project perspectively); the chosen camera is orthographic");
     }
-    let v = |a: shader_core::Vec3| mirror([a.x as f64, a.y as f64, a.z as f64]);
+    let v = |a: shader_core::Vec3| mirror(V3::new(a.x as f64, a.y as f64, a.z as f64));
     let eye = v(c.origin);
     let rows = [v(c.right), v(c.up), v(c.forward)];
     let mut m = [0.0f32; 16];
@@ -158,8 +158,8 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         let (sx, sy) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
         let depth = px[layout::DEPTH];
         gb.depth.push(depth);
-        let nm = mirror([px[layout::NORMAL] as f64, px[layout::NORMAL + 1] as f64, px[layout::NORMAL + 2] as f64]);
-        gb.normal.extend(nm.map(|v| v as f32));
+        let nm = mirror(V3::new(px[layout::NORMAL] as f64, px[layout::NORMAL + 1] as f64, px[layout::NORMAL + 2] as f64));
+        gb.normal.extend(nm.as_vec3().to_array());
         gb.roughness.push(px[layout::ROUGHNESS]);
         gb.metalness.push(px[layout::METALLIC]);
         gb.base_color.extend_from_slice(&px[layout::BASE..layout::BASE + 3]);

@@ -5,7 +5,7 @@
 //! emission), so the colour a screen-space tracer reads at a hit pixel is exactly the radiance the
 //! hit point sends along any reflected ray: the reference and SSR see the same signal.
 
-use super::camera::{add, dot, normalize, scale, sub, Camera, V3};
+use super::camera::{Camera, V3};
 use super::gbuffer::GBuffer;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
@@ -32,7 +32,7 @@ pub struct Material {
 
 impl Material {
     pub fn diffuse(albedo: V3, roughness: f32) -> Material {
-        Material { albedo, emission: [0.0; 3], roughness, metalness: 0.0, bands: None }
+        Material { albedo, emission: V3::ZERO, roughness, metalness: 0.0, bands: None }
     }
     pub fn emissive(albedo: V3, emission: V3) -> Material {
         Material { albedo, emission, roughness: 1.0, metalness: 0.0, bands: None }
@@ -100,9 +100,9 @@ pub const SCENES: [&str; 4] = ["floor", "hallway", "thin", "animated"];
 fn intersect(shape: &Shape, o: V3, d: V3, t_min: f64) -> Option<(f64, V3)> {
     match *shape {
         Shape::Sphere { c, r } => {
-            let oc = sub(o, c);
-            let b = dot(oc, d);
-            let cc = dot(oc, oc) - r * r;
+            let oc = o - c;
+            let b = oc.dot(d);
+            let cc = oc.dot(oc) - r * r;
             let disc = b * b - cc;
             if disc < 0.0 {
                 return None;
@@ -115,8 +115,8 @@ fn intersect(shape: &Shape, o: V3, d: V3, t_min: f64) -> Option<(f64, V3)> {
             if t <= t_min {
                 return None;
             }
-            let p = add(o, scale(d, t));
-            Some((t, scale(sub(p, c), 1.0 / r)))
+            let p = o + (d * t);
+            Some((t, (p - c) * (1.0 / r)))
         }
         Shape::Aabb { lo, hi } => {
             let mut t0 = f64::NEG_INFINITY;
@@ -143,7 +143,7 @@ fn intersect(shape: &Shape, o: V3, d: V3, t_min: f64) -> Option<(f64, V3)> {
                 return None;
             }
             let (t, axis, entering) = if t0 > t_min { (t0, axis0, true) } else if t1 > t_min { (t1, axis1, false) } else { return None };
-            let mut n = [0.0; 3];
+            let mut n = V3::ZERO;
             let s = if d[axis] > 0.0 { -1.0 } else { 1.0 };
             n[axis] = if entering { s } else { -s };
             Some((t, n))
@@ -213,7 +213,7 @@ impl Scene {
         for (i, obj) in self.objects.iter().enumerate() {
             if let Some((t, n)) = intersect(&obj.shape, o, d, t_min) {
                 if best.map(|b| t < b.t).unwrap_or(true) {
-                    best = Some(Hit { t, p: add(o, scale(d, t)), n, object: i });
+                    best = Some(Hit { t, p: (o + (d * t)), n, object: i });
                 }
             }
         }
@@ -224,16 +224,16 @@ impl Scene {
     /// ambient (0.6 + 0.4 n.y)).
     pub fn shade(&self, h: &Hit) -> V3 {
         let m = &self.objects[h.object].material;
-        let nl = dot(h.n, self.sun_dir);
+        let nl = h.n.dot(self.sun_dir);
         let mut sun = 0.0;
         if nl > 0.0 {
-            let o = add(h.p, scale(h.n, 1e-6));
+            let o = h.p + (h.n * (1e-6));
             if self.cast(o, self.sun_dir, 1e-6).is_none() {
                 sun = nl;
             }
         }
         let amb = 0.6 + 0.4 * h.n[1];
-        let mut c = [0.0; 3];
+        let mut c = V3::ZERO;
         for k in 0..3 {
             c[k] = m.emission[k] + m.albedo[k] / std::f64::consts::PI * (self.sun_irradiance[k] * sun + self.ambient[k] * amb);
         }
@@ -243,15 +243,15 @@ impl Scene {
     /// The camera of frame `frame` (animated scenes move along a path; others are static).
     pub fn camera(&self, frame: u32) -> Camera {
         let f = frame as f64;
-        let sway = [self.sway * (0.21 * f).sin(), 0.25 * self.sway * (0.13 * f).sin(), 0.0];
-        let eye = add(add(self.eye, scale(self.eye_velocity, f)), sway);
-        let target = add(add(self.target, scale(self.eye_velocity, f)), scale(sway, 0.5));
-        Camera::look_at(eye, target, [0.0, 1.0, 0.0], self.fov_y_degrees, self.near)
+        let sway = V3::new(self.sway * (0.21 * f).sin(), 0.25 * self.sway * (0.13 * f).sin(), 0.0);
+        let eye = (self.eye + (self.eye_velocity * f)) + sway;
+        let target = (self.target + (self.eye_velocity * f)) + (sway * 0.5);
+        Camera::look_at(eye, target, V3::Y, self.fov_y_degrees, self.near)
     }
 
     /// Is this scene's camera animated?
     pub fn animated(&self) -> bool {
-        self.sway != 0.0 || dot(self.eye_velocity, self.eye_velocity) > 0.0
+        self.sway != 0.0 || self.eye_velocity.dot(self.eye_velocity) > 0.0
     }
 
     /// Render the G-buffer of frame `frame` at `width` x `height`: primary rays through pixel
@@ -335,13 +335,13 @@ fn base_scene(name: &str, objects: Vec<Object>, eye: V3, target: V3) -> Scene {
     Scene {
         name: name.into(),
         objects,
-        sun_dir: normalize([0.45, 0.8, -0.35]),
-        sun_irradiance: [3.0, 2.85, 2.6],
-        ambient: [0.55, 0.6, 0.7],
+        sun_dir: (V3::new(0.45, 0.8, -0.35)).normalize(),
+        sun_irradiance: V3::new(3.0, 2.85, 2.6),
+        ambient: V3::new(0.55, 0.6, 0.7),
         sky: [0.35, 0.45, 0.65],
         eye,
         target,
-        eye_velocity: [0.0; 3],
+        eye_velocity: V3::ZERO,
         sway: 0.0,
         fov_y_degrees: 60.0,
         near: 0.1,
@@ -351,19 +351,19 @@ fn base_scene(name: &str, objects: Vec<Object>, eye: V3, target: V3) -> Scene {
 /// A glossy floor in roughness bands along x (0 for x < 0.2, then 0.08, 0.2, 0.35) with spheres,
 /// boxes and a back wall.
 fn floor_scene(name: &str) -> Scene {
-    let floor = Material::diffuse([0.5, 0.5, 0.52], 0.0).with_bands(0, &[0.2, 0.9, 1.6], &[0.0, 0.08, 0.2, 0.35]);
+    let floor = Material::diffuse(V3::new(0.5, 0.5, 0.52), 0.0).with_bands(0, &[0.2, 0.9, 1.6], &[0.0, 0.08, 0.2, 0.35]);
     let objects = vec![
-        aabb([-4.0, -0.2, -2.0], [4.0, 0.0, 12.0], floor),
-        aabb([-4.0, 0.0, 8.0], [4.0, 3.0, 8.4], Material::diffuse([0.75, 0.7, 0.55], 1.0)),
-        sphere([-2.2, 0.6, 4.0], 0.6, Material::diffuse([0.85, 0.2, 0.15], 1.0)),
-        sphere([0.3, 0.45, 5.5], 0.45, Material::diffuse([0.15, 0.7, 0.25], 1.0)),
-        sphere([2.3, 0.8, 4.6], 0.8, Material::diffuse([0.2, 0.35, 0.9], 0.4).with_metal(1.0)),
-        sphere([-0.8, 0.25, 3.0], 0.25, Material::emissive([0.9, 0.9, 0.9], [4.0, 3.0, 1.2])),
-        aabb([-3.4, 0.0, 6.2], [-2.4, 1.4, 7.0], Material::diffuse([0.9, 0.85, 0.3], 1.0)),
-        aabb([0.9, 0.0, 6.6], [1.9, 0.7, 7.4], Material::diffuse([0.6, 0.25, 0.7], 1.0)),
-        aabb([-1.2, 0.0, 7.0], [-0.6, 2.2, 7.6], Material::diffuse([0.3, 0.75, 0.8], 1.0)),
+        aabb(V3::new(-4.0, -0.2, -2.0), V3::new(4.0, 0.0, 12.0), floor),
+        aabb(V3::new(-4.0, 0.0, 8.0), V3::new(4.0, 3.0, 8.4), Material::diffuse(V3::new(0.75, 0.7, 0.55), 1.0)),
+        sphere(V3::new(-2.2, 0.6, 4.0), 0.6, Material::diffuse(V3::new(0.85, 0.2, 0.15), 1.0)),
+        sphere(V3::new(0.3, 0.45, 5.5), 0.45, Material::diffuse(V3::new(0.15, 0.7, 0.25), 1.0)),
+        sphere(V3::new(2.3, 0.8, 4.6), 0.8, Material::diffuse(V3::new(0.2, 0.35, 0.9), 0.4).with_metal(1.0)),
+        sphere(V3::new(-0.8, 0.25, 3.0), 0.25, Material::emissive(V3::new(0.9, 0.9, 0.9), V3::new(4.0, 3.0, 1.2))),
+        aabb(V3::new(-3.4, 0.0, 6.2), V3::new(-2.4, 1.4, 7.0), Material::diffuse(V3::new(0.9, 0.85, 0.3), 1.0)),
+        aabb(V3::new(0.9, 0.0, 6.6), V3::new(1.9, 0.7, 7.4), Material::diffuse(V3::new(0.6, 0.25, 0.7), 1.0)),
+        aabb(V3::new(-1.2, 0.0, 7.0), V3::new(-0.6, 2.2, 7.6), Material::diffuse(V3::new(0.3, 0.75, 0.8), 1.0)),
     ];
-    base_scene(name, objects, [0.0, 1.5, -0.6], [0.0, 0.55, 5.0])
+    base_scene(name, objects, V3::new(0.0, 1.5, -0.6), V3::new(0.0, 0.55, 5.0))
 }
 
 /// A hallway: a slightly glossy floor, side walls whose roughness steps along the hall
@@ -372,22 +372,22 @@ fn hallway_scene() -> Scene {
     let steps = [0.0, 0.05, 0.12, 0.22, 0.32, 0.45];
     let edges = [6.0, 8.0, 10.0, 12.0, 14.0];
     let objects = vec![
-        aabb([-2.0, -0.2, -1.0], [2.0, 0.0, 16.0], Material::diffuse([0.45, 0.42, 0.4], 0.06)),
-        aabb([-2.2, 0.0, -1.0], [-2.0, 3.0, 16.0], Material::diffuse([0.55, 0.5, 0.45], 0.0).with_bands(2, &edges, &steps)),
-        aabb([2.0, 0.0, -1.0], [2.2, 3.0, 16.0], Material::diffuse([0.4, 0.45, 0.55], 0.0).with_bands(2, &edges, &steps)),
-        aabb([-2.0, 3.0, -1.0], [2.0, 3.2, 16.0], Material::diffuse([0.8, 0.8, 0.8], 1.0)),
-        aabb([-2.0, 0.0, 15.0], [2.0, 3.0, 15.2], Material::diffuse([0.7, 0.7, 0.7], 1.0)),
-        aabb([-1.6, 0.6, 14.9], [-0.6, 2.2, 15.0], Material::emissive([0.9, 0.3, 0.2], [6.0, 1.5, 0.8])),
-        aabb([0.6, 0.6, 14.9], [1.6, 2.2, 15.0], Material::emissive([0.2, 0.4, 0.9], [0.8, 2.0, 6.0])),
-        aabb([-1.9, 0.0, 5.0], [-1.5, 3.0, 5.4], Material::diffuse([0.85, 0.8, 0.6], 1.0)),
-        aabb([1.5, 0.0, 8.0], [1.9, 3.0, 8.4], Material::diffuse([0.85, 0.8, 0.6], 1.0)),
-        sphere([0.4, 0.5, 6.5], 0.5, Material::diffuse([0.8, 0.3, 0.2], 1.0)),
-        aabb([-0.9, 0.0, 10.0], [-0.1, 0.8, 10.8], Material::diffuse([0.2, 0.7, 0.3], 1.0)),
+        aabb(V3::new(-2.0, -0.2, -1.0), V3::new(2.0, 0.0, 16.0), Material::diffuse(V3::new(0.45, 0.42, 0.4), 0.06)),
+        aabb(V3::new(-2.2, 0.0, -1.0), V3::new(-2.0, 3.0, 16.0), Material::diffuse(V3::new(0.55, 0.5, 0.45), 0.0).with_bands(2, &edges, &steps)),
+        aabb(V3::new(2.0, 0.0, -1.0), V3::new(2.2, 3.0, 16.0), Material::diffuse(V3::new(0.4, 0.45, 0.55), 0.0).with_bands(2, &edges, &steps)),
+        aabb(V3::new(-2.0, 3.0, -1.0), V3::new(2.0, 3.2, 16.0), Material::diffuse(V3::new(0.8, 0.8, 0.8), 1.0)),
+        aabb(V3::new(-2.0, 0.0, 15.0), V3::new(2.0, 3.0, 15.2), Material::diffuse(V3::new(0.7, 0.7, 0.7), 1.0)),
+        aabb(V3::new(-1.6, 0.6, 14.9), V3::new(-0.6, 2.2, 15.0), Material::emissive(V3::new(0.9, 0.3, 0.2), V3::new(6.0, 1.5, 0.8))),
+        aabb(V3::new(0.6, 0.6, 14.9), V3::new(1.6, 2.2, 15.0), Material::emissive(V3::new(0.2, 0.4, 0.9), V3::new(0.8, 2.0, 6.0))),
+        aabb(V3::new(-1.9, 0.0, 5.0), V3::new(-1.5, 3.0, 5.4), Material::diffuse(V3::new(0.85, 0.8, 0.6), 1.0)),
+        aabb(V3::new(1.5, 0.0, 8.0), V3::new(1.9, 3.0, 8.4), Material::diffuse(V3::new(0.85, 0.8, 0.6), 1.0)),
+        sphere(V3::new(0.4, 0.5, 6.5), 0.5, Material::diffuse(V3::new(0.8, 0.3, 0.2), 1.0)),
+        aabb(V3::new(-0.9, 0.0, 10.0), V3::new(-0.1, 0.8, 10.8), Material::diffuse(V3::new(0.2, 0.7, 0.3), 1.0)),
     ];
-    let mut s = base_scene("hallway", objects, [0.3, 1.6, 0.2], [-0.2, 1.1, 8.0]);
-    s.sun_dir = normalize([0.2, 1.0, 0.1]);
-    s.sun_irradiance = [0.0; 3];
-    s.ambient = [1.0, 1.0, 1.05];
+    let mut s = base_scene("hallway", objects, V3::new(0.3, 1.6, 0.2), V3::new(-0.2, 1.1, 8.0));
+    s.sun_dir = (V3::new(0.2, 1.0, 0.1)).normalize();
+    s.sun_irradiance = V3::ZERO;
+    s.ambient = V3::new(1.0, 1.0, 1.05);
     s
 }
 
@@ -395,20 +395,20 @@ fn hallway_scene() -> Scene {
 /// a striped wall; HDRP's relative thickness (1% of depth = 3-6 cm here) treats the space behind
 /// them as solid.
 fn thin_scene() -> Scene {
-    let mut objects = vec![aabb([-4.0, -0.2, -2.0], [4.0, 0.0, 12.0], Material::diffuse([0.5, 0.5, 0.5], 0.0))];
+    let mut objects = vec![aabb(V3::new(-4.0, -0.2, -2.0), V3::new(4.0, 0.0, 12.0), Material::diffuse(V3::new(0.5, 0.5, 0.5), 0.0))];
     for k in 0..8 {
         let x0 = -4.0 + k as f64;
-        let c = if k % 2 == 0 { [0.8, 0.75, 0.6] } else { [0.25, 0.3, 0.45] };
-        objects.push(aabb([x0, 0.0, 9.0], [x0 + 1.0, 3.0, 9.3], Material::diffuse(c, 1.0)));
+        let c = if k % 2 == 0 { V3::new(0.8, 0.75, 0.6) } else { V3::new(0.25, 0.3, 0.45) };
+        objects.push(aabb(V3::new(x0, 0.0, 9.0), V3::new(x0 + 1.0, 3.0, 9.3), Material::diffuse(c, 1.0)));
     }
-    let plates = [(-1.8, 4.0, [0.9, 0.2, 0.2]), (0.2, 5.0, [0.2, 0.8, 0.3]), (1.8, 3.5, [0.9, 0.8, 0.2])];
+    let plates = [(-1.8, 4.0, V3::new(0.9, 0.2, 0.2)), (0.2, 5.0, V3::new(0.2, 0.8, 0.3)), (1.8, 3.5, V3::new(0.9, 0.8, 0.2))];
     for (x, z, c) in plates {
-        objects.push(aabb([x - 0.5, 0.25, z], [x + 0.5, 1.4, z + 0.02], Material::diffuse(c, 1.0)));
+        objects.push(aabb(V3::new(x - 0.5, 0.25, z), V3::new(x + 0.5, 1.4, z + 0.02), Material::diffuse(c, 1.0)));
     }
     for (x, z) in [(-0.8, 3.0), (1.0, 6.0), (-2.6, 6.5)] {
-        objects.push(aabb([x - 0.02, 0.0, z - 0.02], [x + 0.02, 2.0, z + 0.02], Material::diffuse([0.9, 0.9, 0.9], 1.0)));
+        objects.push(aabb(V3::new(x - 0.02, 0.0, z - 0.02), V3::new(x + 0.02, 2.0, z + 0.02), Material::diffuse(V3::new(0.9, 0.9, 0.9), 1.0)));
     }
-    base_scene("thin", objects, [0.0, 1.3, -0.5], [0.0, 0.6, 5.0])
+    base_scene("thin", objects, V3::new(0.0, 1.3, -0.5), V3::new(0.0, 0.6, 5.0))
 }
 
 /// Look a built-in scene up by name.
@@ -419,7 +419,7 @@ pub fn scene(name: &str) -> Result<Scene> {
         "thin" => thin_scene(),
         "animated" => {
             let mut s = floor_scene("animated");
-            s.eye_velocity = [0.01, 0.0, 0.04];
+            s.eye_velocity = V3::new(0.01, 0.0, 0.04);
             s.sway = 0.25;
             s
         }
@@ -432,7 +432,7 @@ pub fn basis(n: V3) -> (V3, V3) {
     let s = if n[2] >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (s + n[2]);
     let b = n[0] * n[1] * a;
-    let t = [1.0 + s * n[0] * n[0] * a, s * b, -s * n[0]];
-    let bb = [b, s + n[1] * n[1] * a, -n[1]];
+    let t = V3::new(1.0 + s * n[0] * n[0] * a, s * b, -s * n[0]);
+    let bb = V3::new(b, s + n[1] * n[1] * a, -n[1]);
     (t, bb)
 }

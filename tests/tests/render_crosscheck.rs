@@ -110,14 +110,14 @@ fn feature_scene() -> (Scene, env::Environment) {
         indices: Some(vec![0, 2, 1, 0, 3, 2]),
     };
     b.mesh(&quad(0.0, 2.0, 3.0), floor_m, &Mat4::IDENTITY).unwrap();
-    b.mesh(&quad(0.0, 0.5, 1.0), metal, &Mat4::translation([1.0, 0.4, -0.5])).unwrap();
+    b.mesh(&quad(0.0, 0.5, 1.0), metal, &Mat4::translation(glam::DVec3::new(1.0, 0.4, -0.5))).unwrap();
     let cube = MeshData {
         name: "cube".into(),
         positions: vec![[-0.4, 0.0, -0.4], [0.4, 0.0, -0.4], [0.4, 0.8, -0.4], [-0.4, 0.8, -0.4], [-0.4, 0.0, 0.4], [0.4, 0.0, 0.4], [0.4, 0.8, 0.4], [-0.4, 0.8, 0.4]],
         indices: Some(vec![0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4]),
         ..MeshData::default()
     };
-    b.mesh(&cube, glass, &Mat4::translation([-0.6, 0.01, 0.2])).unwrap();
+    b.mesh(&cube, glass, &Mat4::translation(glam::DVec3::new(-0.6, 0.01, 0.2))).unwrap();
     b.light(PunctualLight { name: "point".into(), kind: LightKind::Point, position: [0.5, 2.0, 1.0], direction: [0.0, -1.0, 0.0], intensity: [8.0, 7.0, 6.0], range: 10.0 });
     b.light(PunctualLight { name: "spot".into(), kind: LightKind::Spot { inner_cone: 0.3, outer_cone: 0.6 }, position: [-1.0, 2.5, 0.0], direction: [0.3, -1.0, 0.0], intensity: [20.0, 20.0, 25.0], range: 0.0 });
     b.light(PunctualLight { name: "sun".into(), kind: LightKind::Directional, position: [0.0; 3], direction: [-0.3, -0.8, -0.5], intensity: [1.5, 1.4, 1.2], range: 0.0 });

@@ -21,15 +21,11 @@ use shader_core::ssr::trace::{info, load_surface, p_mip_offset, Surface, GBUF_ST
 use shader_core::vector::Vec3;
 
 /// SplitMix64: reproducible inputs without a dependency.
-struct Rng(u64);
+struct Rng(reference::splitmix::SplitMix64);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     /// Uniform in [lo, hi).
     fn range(&mut self, lo: f64, hi: f64) -> f64 {
@@ -69,7 +65,7 @@ fn configuration(rng: &mut Rng) -> (Vec3, Vec3, Vec3) {
 /// reference from `reference::microfacet` on the same (f32) vectors.
 #[test]
 fn stochastic_ray_weight_is_brdf_cos_over_pdf() {
-    let mut rng = Rng(1);
+    let mut rng = Rng(reference::splitmix::SplitMix64(1));
     let (mut above, mut worst) = (0, 0.0f64);
     for _ in 0..200_000 {
         let (n, v, l) = configuration(&mut rng);
@@ -107,7 +103,7 @@ fn stochastic_ray_weight_is_brdf_cos_over_pdf() {
 /// G2 over G1), 0 below the surface, against the f64 Lambda of the kernel's cosines.
 #[test]
 fn hdrp_sample_weight_is_g2_over_g1() {
-    let mut rng = Rng(2);
+    let mut rng = Rng(reference::splitmix::SplitMix64(2));
     let mut worst = 0.0f64;
     for _ in 0..200_000 {
         let (n, v, l) = configuration(&mut rng);
@@ -165,7 +161,7 @@ fn colour_samples_are_bilinear_in_the_texel_coordinates() {
         let c = linear(x, y);
         [c[0] + f64::from(level), c[1], c[2]]
     });
-    let mut rng = Rng(3);
+    let mut rng = Rng(reference::splitmix::SplitMix64(3));
     let mut worst = 0.0f64;
     for _ in 0..20_000 {
         let level = (rng.next() % u64::from(p.color_max_mip + 1)) as u32;
@@ -194,7 +190,7 @@ fn colour_samples_are_linear_between_mips() {
     let value = |level: u32| [1.0 + 3.0 * f64::from(level), 10.0 - f64::from(level * level), 0.5 * f64::from(level)];
     let pyr = pyramid(&p, |level, _, _| value(level));
     let top = f64::from(p.color_max_mip);
-    let mut rng = Rng(4);
+    let mut rng = Rng(reference::splitmix::SplitMix64(4));
     for i in 0..20_000 {
         let m = if i % 10 == 0 { (rng.next() % u64::from(p.color_max_mip + 3)) as f64 - 1.0 } else { rng.range(-1.0, top + 1.0) };
         let (u, v) = (rng.range(0.0, 1.0) as f32, rng.range(0.0, 1.0) as f32);
@@ -215,7 +211,7 @@ fn colour_samples_are_linear_between_mips() {
 #[test]
 fn edge_of_screen_fade_is_the_product_of_the_axis_fades() {
     let smooth = |x: f64| x * x * (3.0 - 2.0 * x);
-    let mut rng = Rng(5);
+    let mut rng = Rng(reference::splitmix::SplitMix64(5));
     for _ in 0..50_000 {
         let length = rng.range(0.01, 1.0);
         let rcp = (1.0 / length) as f32;
@@ -241,7 +237,7 @@ fn temporal_blend_clamps_history_to_the_box_and_weighs_it_by_the_count() {
     let (w, h) = (48usize, 36usize);
     let (p, gbuf) = params(w, h);
     assert!(p.temporal_alpha > 0.0 && p.temporal_alpha < 1.0);
-    let mut rng = Rng(6);
+    let mut rng = Rng(reference::splitmix::SplitMix64(6));
     let current: Vec<f32> = (0..w * h * OUT_STRIDE).map(|_| rng.range(0.0, 1.0) as f32).collect();
     let counts = [1.0f32, 2.0, 3.0, 5.0, 9.0, 15.0, 40.0, 1023.0, 2000.0];
     let mut history = vec![0.0f32; w * h * HISTORY_STRIDE];
@@ -294,7 +290,7 @@ fn temporal_blend_clamps_history_to_the_box_and_weighs_it_by_the_count() {
 /// `log2_approx` (at most 0.086 below log2, exact at powers of two).
 #[test]
 fn fis_cone_and_mip_follow_the_footprint() {
-    let mut rng = Rng(7);
+    let mut rng = Rng(reference::splitmix::SplitMix64(7));
     for _ in 0..100_000 {
         let x = 2f64.powf(rng.range(-30.0, 30.0)) as f32;
         let err = (f64::from(x)).log2() - f64::from(log2_approx(x));
@@ -352,7 +348,7 @@ fn ssr_approx_reads_the_reprojected_hit_at_the_roughness_mip() {
     let gbuf = g.packed();
     let value = |level: u32| [0.25 + f64::from(level), 3.0 - 0.5 * f64::from(level), 0.125 * f64::from(level * level)];
     let pyr = pyramid(&p, |level, _, _| value(level));
-    let mut rng = Rng(8);
+    let mut rng = Rng(reference::splitmix::SplitMix64(8));
     let mut rays = vec![0.0f32; w * h * RAY_STRIDE];
     for i in 0..w * h {
         let b = i * RAY_STRIDE;
@@ -456,7 +452,7 @@ fn virtual_image_lies_beyond_the_surface_along_the_eye_ray() {
         let moving = p.prev_inv_view != p.inv_view;
         assert_eq!(moving, frame == 20, "frame {frame}: the camera should move only after frame 0");
         let (inv_view, prev_view, prev_proj) = (mat64(&p.inv_view), inverse64(&mat64(&p.prev_inv_view)), mat64(&p.prev_proj));
-        let mut rng = Rng(9 + frame as u64);
+        let mut rng = Rng(reference::splitmix::SplitMix64(9 + frame as u64));
         for _ in 0..2000 {
             let (x, y) = ((rng.next() % w as u64) as u32, (rng.next() % h as u64) as u32);
             let s = load_surface(&p, &gbuf, x, y);

@@ -167,7 +167,8 @@ fn serde_json_like(g: &GBuffer) -> String {
 
 #[test]
 fn camera_matrices_invert_and_project_consistently() {
-    let c = Camera::look_at([1.0, 2.0, -3.0], [0.0, 0.5, 4.0], [0.0, 1.0, 0.0], 55.0, 0.1);
+    use host::ssr::camera::V3;
+    let c = Camera::look_at(V3::new(1.0, 2.0, -3.0), V3::new(0.0, 0.5, 4.0), V3::Y, 55.0, 0.1);
     c.validate("camera").unwrap();
     let v = c.view();
     let inv = c.inv_view().unwrap();
@@ -180,7 +181,7 @@ fn camera_matrices_invert_and_project_consistently() {
     assert!((e[0] - 1.0).abs() < 1e-5 && (e[1] - 2.0).abs() < 1e-5 && (e[2] + 3.0).abs() < 1e-5);
     // Primary ray through a pixel projects back onto that pixel.
     let d = c.ray_dir(200, 100, 37.5, 81.5);
-    let p = host::ssr::camera::add(e, host::ssr::camera::scale(d, 7.0));
+    let p = e + d * 7.0;
     let (sx, sy) = c.view_to_screen(200, 100, c.to_view(p));
     assert!((sx - 37.5).abs() < 1e-3 && (sy - 81.5).abs() < 1e-3, "{sx} {sy}");
 }

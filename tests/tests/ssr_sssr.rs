@@ -100,7 +100,7 @@ fn samplers_match_their_pdfs_and_bias_truncates() {
                         continue;
                     }
                     these.push(l);
-                    let (tt, bb) = stochastic::tangent_frame(surf.n);
+                    let (tt, bb) = shader_core::frame::orthonormal_basis(surf.n);
                     let wi = Vec3::new(surf.v.dot(tt), surf.v.dot(bb), surf.v.dot(surf.n));
                     let wo = Vec3::new(l.dot(tt), l.dot(bb), l.dot(surf.n));
                     let alpha = surf.perceptual_roughness * surf.perceptual_roughness;

@@ -120,14 +120,11 @@ impl SurfacePoint {
     }
 }
 
-/// A unit vector orthogonal to unit `n` (Duff et al. 2017, "Building an Orthonormal Basis,
-/// Revisited", listing 3): the first vector of their basis.
+/// A unit vector orthogonal to unit `n`: the tangent of `frame::orthonormal_basis` (Duff et al.
+/// 2017).
 #[inline]
 pub fn orthonormal_tangent(n: Vec3) -> Vec3 {
-    let sign = if n.z < 0.0 { -1.0 } else { 1.0 };
-    let a = crate::ieee::div(-1.0, sign + n.z);
-    let b = n.x * n.y * a;
-    Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x)
+    crate::frame::orthonormal_basis(n).0
 }
 
 /// The shading point of triangle `t` hit at (b1, b2) by a ray with direction `d`.

@@ -1,8 +1,8 @@
 //! Reflection rays of a G-buffer pixel: the mirror direction, or a GGX visible-normal sample
 //! with Stachowiak 2015's importance-sampling bias, and the sampler's density.
 
+use crate::frame::orthonormal_basis;
 use crate::fresnel::reflect;
-use crate::ieee;
 use crate::rng;
 use crate::vector::Vec3;
 use crate::vndf;
@@ -13,18 +13,6 @@ use super::params::{SsrParams, SAMPLER_BOUNDED, SAMPLER_CAPS};
 /// Perceptual roughness below which a pixel is a mirror: one deterministic ray, traced at every
 /// pixel (never reused across pixels: its lobe is a Dirac).
 pub const MIRROR_ROUGHNESS: f32 = 0.03;
-
-/// An orthonormal tangent frame (t, b) around unit n (Duff et al. 2017, "Building an Orthonormal
-/// Basis, Revisited", listing 3), with the sign chosen by comparison.
-#[inline]
-pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
-    let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = ieee::div(-1.0, s + n.z);
-    let b = n.x * n.y * a;
-    let t = Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
-    let bb = Vec3::new(b, s + n.y * n.y * a, -n.y);
-    (t, bb)
-}
 
 /// One GGX reflection sample of `shader_core::vndf` in the local frame (normal +z, `wi` towards
 /// the eye) by the sampler `sampler` (`SAMPLER_*`), with Stachowiak 2015's importance-sampling
@@ -70,7 +58,7 @@ pub fn sample_ray(p: &SsrParams, s: &Surface, x: u32, y: u32, smp: u32) -> (Vec3
     let alpha = s.perceptual_roughness * s.perceptual_roughness;
     let seed = rng::pcg_hash((y * p.width + x) ^ rng::pcg_hash(p.frame * 16 + smp));
     let mut r = rng::Pcg32::new(seed, smp);
-    let (t, b) = tangent_frame(s.n);
+    let (t, b) = orthonormal_basis(s.n);
     let vl = Vec3::new(s.v.dot(t), s.v.dot(b), s.v.dot(s.n));
     let keep = 1.0 - clampf(p.sample_bias, 0.0, 0.999);
     let mut tries = 0;

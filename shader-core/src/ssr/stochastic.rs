@@ -5,28 +5,19 @@
 //! the colour pyramid, and temporal accumulation with history clamping.
 //!
 //! ```
-//! use shader_core::ssr::stochastic::{dispatch_record, groups_2d, tangent_frame};
-//! use shader_core::Vec3;
-//! // An orthonormal frame around the normal.
-//! let n = Vec3::new(0.0, 0.6, 0.8);
-//! let (t, b) = tangent_frame(n);
-//! for (u, v) in [(t, b), (t, n), (b, n)] {
-//!     assert!(u.dot(v).abs() < 1e-6);
-//! }
-//! assert!((t.length() - 1.0).abs() < 1e-6 && (b.length() - 1.0).abs() < 1e-6);
-//! // Dispatch sizes: at most 65535 groups in x, never 0 x 0.
-//! assert_eq!(groups_2d(0), (1, 0));
-//! assert_eq!(groups_2d(70_000), (65535, 2));
+//! use shader_core::ssr::stochastic::dispatch_record;
 //! // The dispatch record: [rays, groups in x, indirect (x, y, 1)].
 //! assert_eq!(dispatch_record(130, 64), [130, 3, 3, 1, 1]);
 //! ```
 
+use crate::dispatch::groups_2d;
 use crate::ieee;
 use super::params::{SsrParams, FLAG_FIS, FLAG_RAY_COLOR, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::compare::{clampf, maxf, minf};
 use super::layout::{info, Surface, HIT_FADE, HIT_STRIDE, HIT_TAN_HALF, OUT_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
 use super::resolve::{hit_color, lambda_cos, load_hit_pos_pdf, log2_approx, perceptual_roughness_fade, store as resolve_store, store_resolved, stored_hit_color};
-pub use super::sampling::{reflection_pdf, sample_ray, sample_reflection, tangent_frame, MIRROR_ROUGHNESS};
+pub use super::sampling::{reflection_pdf, sample_ray, sample_reflection, MIRROR_ROUGHNESS};
+use crate::frame::orthonormal_basis;
 use super::trace::{load_surface, trace_and_store, store_no_ray};
 use crate::buffer::{load, load2, load4, store};
 use crate::ndf;
@@ -202,14 +193,6 @@ pub fn segment_offsets(tiles: &[f32], column: usize, first: u32, end: u32, base:
 pub const DISPATCH_WORDS: usize = 5;
 /// Word offset of the (x, y, z) indirect-dispatch arguments inside the dispatch record.
 pub const INDIRECT_OFFSET: usize = 2;
-
-/// 2D dispatch for `groups` workgroups: x <= 65535 groups (at least 1), y rows of them
-/// (ceil(groups / x); 0 rows for 0 groups).
-#[inline]
-pub fn groups_2d(groups: u32) -> (u32, u32) {
-    let gx = if groups < 1 { 1 } else if groups > 65535 { 65535 } else { groups };
-    (gx, (groups + gx - 1) / gx)
-}
 
 /// One Hillis-Steele step of an inclusive scan over `SCAN_LANES` values in `shared[src..]`
 /// (Hillis & Steele 1986): lane's value plus the value `d` lanes before it (0 before lane 0).
@@ -491,7 +474,7 @@ pub fn ray_pdf_at_hit(p: &SsrParams, sq: &Surface, hit: Vec3, stored: f32) -> f3
         return stored;
     }
     let lq = (hit - sq.pos).normalize_or_zero();
-    let (t, b) = tangent_frame(sq.n);
+    let (t, b) = orthonormal_basis(sq.n);
     let wi = Vec3::new(sq.v.dot(t), sq.v.dot(b), sq.v.dot(sq.n));
     let wo = Vec3::new(lq.dot(t), lq.dot(b), lq.dot(sq.n));
     let alpha_q = sq.perceptual_roughness * sq.perceptual_roughness;
