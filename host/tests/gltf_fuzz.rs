@@ -132,7 +132,7 @@ fn mutate(rng: &mut Rng, doc: &mut Value) -> String {
 /// (named, as the CLI reports it), `Ok(Some(non-finite pixel count))` otherwise.
 fn tiny_render(scene: &Scene, lut: &[f32]) -> anyhow::Result<usize> {
     let (cam, _) = host::render::cli::pick_camera(scene, None)?;
-    let camera = cam.camera(8, 8)?;
+    let camera = cam.kernel(8, 8)?;
     let env = environment::build(&if scene.has_lights() { EnvSpec::Black } else { EnvSpec::Uniform([1.0; 3]) }, 1.0, 0.0)?;
     let p_env = if scene.has_lights() { 0.0 } else { 1.0 };
     let params = RenderParams { width: 8, height: 8, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: STRATEGY_MIS, compensation: host::energy::Compensation::None.id(), clamp: 0.0, p_env, camera };

@@ -18,7 +18,8 @@
 use host::energy::{self, Compensation, TableSpec};
 use host::render::environment::{self as env, EnvSpec};
 use host::render::scene::{LightKind, Mat4, Material, MeshData, PunctualLight, Scene, SceneBuilder};
-use host::render::{self, CameraSpec, RenderImage, RenderInputs};
+use host::render::scene::{Camera, Projection};
+use host::render::{self, RenderImage, RenderInputs};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_BSDF, STRATEGY_LIGHT, STRATEGY_MIS};
 use shader_core::pt::material::Material as Bsdf;
@@ -53,13 +54,13 @@ fn plane_scene(m: Material, lights: &[PunctualLight]) -> Scene {
 }
 
 /// An orthographic camera looking at the origin from polar angle `theta` (in the xy plane).
-fn ortho_at(theta: f32) -> CameraSpec {
+fn ortho_at(theta: f32) -> Camera {
     let wo = [theta.sin(), theta.cos(), 0.0];
-    CameraSpec { position: [5.0 * wo[0], 5.0 * wo[1], 0.0], forward: [-wo[0], -wo[1], 0.0], up: [0.0, 0.0, 1.0], yfov: None, mag: [0.5, 0.5] }
+    Camera::look("ortho", [5.0 * wo[0], 5.0 * wo[1], 0.0], [-wo[0], -wo[1], 0.0], [0.0, 0.0, 1.0], Projection::Orthographic { xmag: 0.5, ymag: 0.5 })
 }
 
-fn params(cam: &CameraSpec, w: u32, h: u32, strategy: u32, comp: Compensation, p_env: f32, max_depth: u32, seed: u32) -> RenderParams {
-    RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth, rr_depth: 64, strategy, compensation: comp.id(), clamp: 0.0, p_env, camera: cam.camera(w, h).unwrap() }
+fn params(cam: &Camera, w: u32, h: u32, strategy: u32, comp: Compensation, p_env: f32, max_depth: u32, seed: u32) -> RenderParams {
+    RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth, rr_depth: 64, strategy, compensation: comp.id(), clamp: 0.0, p_env, camera: cam.kernel(w, h).unwrap() }
 }
 
 fn render(scene: &Scene, e: &env::Environment, p: &RenderParams, spp: u32) -> RenderImage {
@@ -341,7 +342,7 @@ fn point_light_on_a_plane_falls_off_as_inverse_square() {
 fn block_stats(strategy: u32, runs: u32, spp: u32) -> Vec<(f64, f64)> {
     let scene = Scene::builtin(6);
     let black = env::build(&EnvSpec::Black, 1.0, 0.0).unwrap();
-    let cam = CameraSpec::from_desc(&scene.cameras[0]);
+    let cam = scene.cameras[0].clone();
     let (w, h) = (24u32, 24u32);
     let mut per_run: Vec<Vec<f64>> = Vec::new();
     for run in 0..runs {
@@ -390,7 +391,7 @@ fn mis_bsdf_and_light_sampling_agree() {
 fn error_falls_as_one_over_sqrt_spp() {
     let scene = Scene::builtin(6);
     let black = env::build(&EnvSpec::Black, 1.0, 0.0).unwrap();
-    let cam = CameraSpec::from_desc(&scene.cameras[0]);
+    let cam = scene.cameras[0].clone();
     let (w, h) = (16u32, 16u32);
     let reference = render(&scene, &black, &params(&cam, w, h, STRATEGY_MIS, Compensation::Turquin, 0.0, 5, 999), 2048);
     let mut pts = Vec::new();

@@ -5,9 +5,11 @@
 //! input named.
 
 use host::render::environment::{self as env, EnvSpec};
-use host::render::gbuffer::{orbit, render_gbuffer, ssr_camera, to_ssr, Frames};
+use host::render::gbuffer::{render_gbuffer, to_ssr, Frames};
+use host::render::scene::{Camera, Projection};
+use host::ssr::camera::Camera as SsrCamera;
 use host::render::scene::{Mat4, Material, MeshData, Scene, SceneBuilder};
-use host::render::{self, CameraSpec, RenderInputs};
+use host::render::{self, RenderInputs};
 use host::ssr::{GBuffer, Reference};
 use host::Backend;
 use shader_core::pt::gbuffer::GBufferParams;
@@ -48,13 +50,13 @@ fn floor_scene(floor: Material, with_box: bool) -> Scene {
     b.build().unwrap()
 }
 
-fn camera() -> CameraSpec {
+fn camera() -> Camera {
     let (eye, at) = ([0.0f32, 1.2, 3.5], [0.0f32, 0.3, 0.0]);
     let f = [at[0] - eye[0], at[1] - eye[1], at[2] - eye[2]];
-    CameraSpec { position: eye, forward: f, up: [0.0, 1.0, 0.0], yfov: Some(0.8), mag: [1.0, 1.0] }
+    Camera::look("test", eye, f, [0.0, 1.0, 0.0], Projection::Perspective { yfov: 0.8, aspect: None })
 }
 
-fn params(cam: &CameraSpec, w: u32, h: u32, seed: u32) -> RenderParams {
+fn params(cam: &Camera, w: u32, h: u32, seed: u32) -> RenderParams {
     RenderParams {
         width: w,
         height: h,
@@ -67,13 +69,13 @@ fn params(cam: &CameraSpec, w: u32, h: u32, seed: u32) -> RenderParams {
         compensation: shader_core::energy::COMP_NONE,
         clamp: 0.0,
         p_env: 1.0,
-        camera: cam.camera(w, h).unwrap(),
+        camera: cam.kernel(w, h).unwrap(),
     }
 }
 
 /// The G-buffer and reference of `scene` under a uniform sky `sky`, seen by `cam` (previous
 /// frame `prev`), with `spp` colour samples and `ref_spp` reference samples, on the CPU.
-fn export(scene: &Scene, sky: [f32; 3], cam: &CameraSpec, prev: &CameraSpec, w: u32, h: u32, spp: u32, ref_spp: u32, max_roughness: f32) -> (GBuffer, Option<Reference>) {
+fn export(scene: &Scene, sky: [f32; 3], cam: &Camera, prev: &Camera, w: u32, h: u32, spp: u32, ref_spp: u32, max_roughness: f32) -> (GBuffer, Option<Reference>) {
     let e = env::build(&EnvSpec::Uniform(sky), 1.0, 0.0).unwrap();
     let lut = vec![0.0; shader_core::energy::LUT_HEADER];
     let inputs = RenderInputs { scene: &scene.words, env: &e.words, lut: &lut };
@@ -82,7 +84,7 @@ fn export(scene: &Scene, sky: [f32; 3], cam: &CameraSpec, prev: &CameraSpec, w: 
     let (img, _) = render::render(&Backend::Cpu, &inputs, &pp, spp, spp, |_| {}).unwrap();
     let gp = GBufferParams { render: p, max_roughness, fallback: shader_core::Vec3::new(sky[0], sky[1], sky[2]) };
     let (sums, _) = render_gbuffer(&Backend::Cpu, &inputs, &gp, ref_spp, 64, |_| {}).unwrap();
-    let frames = Frames { ssr_camera: ssr_camera(&p.camera, 0.01).unwrap(), ssr_previous: ssr_camera(&pp.camera, 0.01).unwrap(), color: img.color, fallback: sky };
+    let frames = Frames { ssr_camera: SsrCamera::from_kernel(&p.camera, 0.01).unwrap(), ssr_previous: SsrCamera::from_kernel(&pp.camera, 0.01).unwrap(), color: img.color, fallback: sky };
     to_ssr(&sums, frames, None).unwrap()
 }
 
@@ -323,12 +325,12 @@ fn gbuffer_export_bad_input_is_named() {
 #[test]
 fn orthographic_cameras_are_refused_for_gbuffers() {
     let mut spec = camera();
-    spec.yfov = None;
-    let cam = spec.camera(16, 16).unwrap();
-    let e = ssr_camera(&cam, 0.01).unwrap_err().to_string();
+    spec.projection = Projection::Orthographic { xmag: 1.0, ymag: 1.0 };
+    let cam = spec.kernel(16, 16).unwrap();
+    let e = SsrCamera::from_kernel(&cam, 0.01).unwrap_err().to_string();
     assert!(e.contains("perspective"), "{e}");
     // Orbiting keeps the camera rigid and turns it about +y.
-    let o = orbit(&camera(), [0.0, 0.0, 0.0], 90.0);
+    let o = camera().orbited([0.0, 0.0, 0.0], 90.0);
     assert!((o.position[0] - 3.5).abs() < 1e-5 && o.position[2].abs() < 1e-5, "{:?}", o.position);
 }
 

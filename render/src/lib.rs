@@ -11,7 +11,7 @@
 //! use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
 //! // the built-in Cornell box at 16x16, 2 samples per pixel, on the CPU backend
 //! let scene = scene::Scene::builtin(scene::DEFAULT_DETAIL);
-//! let camera = render::CameraSpec::from_desc(scene.camera("0").unwrap()).camera(16, 16)?;
+//! let camera = scene.camera("0").unwrap().kernel(16, 16)?;
 //! let env = scene::environment::build(&scene::environment::EnvSpec::Black, 1.0, 0.0)?;
 //! let lut = vec![0.0; shader_core::energy::LUT_HEADER]; // no energy compensation
 //! let compensation = shader_core::energy::COMP_NONE;
@@ -24,9 +24,7 @@
 
 use anyhow::{bail, Context, Result};
 use runner::{Backend, Launch, Timing};
-use shader_core::pt::camera::{Camera, ORTHOGRAPHIC, PERSPECTIVE};
 use shader_core::pt::integrator::RenderParams;
-use shader_core::Vec3;
 use shader_kernels::render::{RenderArgs, OUT_STRIDE, PT_RENDER};
 
 /// Everything a launch binds besides its parameters.
@@ -167,75 +165,6 @@ pub fn render_until(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderP
         Ok(t)
     })?;
     Ok((acc.image(), time))
-}
-
-/// A camera description (glTF conventions: looks down `forward`, `up` is the image's top).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CameraSpec {
-    /// Eye position.
-    pub position: [f32; 3],
-    /// Viewing direction.
-    pub forward: [f32; 3],
-    /// Up direction (need not be orthogonal to `forward`).
-    pub up: [f32; 3],
-    /// `Some(yfov radians)` for perspective, `None` for orthographic.
-    pub yfov: Option<f32>,
-    /// Orthographic half extents (xmag, ymag).
-    pub mag: [f32; 2],
-}
-
-impl CameraSpec {
-    /// The kernel's camera for a `width x height` image (perspective: the image's aspect ratio
-    /// with the vertical field of view kept).
-    pub fn camera(&self, width: u32, height: u32) -> Result<Camera> {
-        let v = |a: [f32; 3]| Vec3::new(a[0], a[1], a[2]);
-        let f = v(self.forward);
-        if !(f.length() > 0.0) || !f.is_finite() {
-            bail!("camera forward direction {:?} is not a direction", self.forward);
-        }
-        let f = f.normalize();
-        let right = f.cross(v(self.up));
-        if !(right.length() > 1e-6) {
-            bail!("camera up {:?} is parallel to its forward direction {:?}", self.up, self.forward);
-        }
-        let right = right.normalize();
-        let up = right.cross(f);
-        let aspect = width as f32 / height as f32;
-        let (kind, sx, sy) = match self.yfov {
-            Some(y) => {
-                if !(y > 0.0 && y < std::f32::consts::PI) {
-                    bail!("camera yfov {y} rad: must be in (0, pi)");
-                }
-                let t = (y as f64 * 0.5).tan() as f32;
-                (PERSPECTIVE, t * aspect, t)
-            }
-            None => {
-                if !(self.mag[0] > 0.0 && self.mag[1] > 0.0) {
-                    bail!("orthographic camera xmag/ymag {:?}: must be positive", self.mag);
-                }
-                (ORTHOGRAPHIC, self.mag[1] * aspect, self.mag[1])
-            }
-        };
-        Ok(Camera { kind, origin: v(self.position), right, up, forward: f, scale_x: sx, scale_y: sy })
-    }
-
-    /// The spec of a scene camera.
-    pub fn from_desc(c: &scene::CameraDesc) -> CameraSpec {
-        let (yfov, mag) = match c.projection {
-            scene::Projection::Perspective { yfov, .. } => (Some(yfov), [1.0, 1.0]),
-            scene::Projection::Orthographic { xmag, ymag } => (None, [xmag, ymag]),
-        };
-        CameraSpec { position: c.position, forward: c.forward, up: c.up, yfov, mag }
-    }
-
-    /// A perspective camera framing `bounds` (its bounding sphere) from its +z side (yfov 40
-    /// degrees).
-    pub fn framing(bounds: &scene::Aabb) -> CameraSpec {
-        let (c, r) = bounds.bounding_sphere();
-        let yfov = 40f32.to_radians();
-        let d = r.max(1e-3) / (yfov * 0.5).sin();
-        CameraSpec { position: [c[0], c[1], c[2] + d], forward: [0.0, 0.0, -1.0], up: [0.0, 1.0, 0.0], yfov: Some(yfov), mag: [1.0, 1.0] }
-    }
 }
 
 /// Write the render as a linear EXR (R, G, B, albedo.R/G/B, normal.X/Y/Z, depth.Z).

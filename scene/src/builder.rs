@@ -4,7 +4,7 @@
 
 use super::math::{normalize, Mat4};
 use glam::DVec3;
-use super::{Aabb, AlphaMode, CameraDesc, LightKind, Material, MeshData, PunctualLight, Scene, SceneCounts, Texture, Wrap};
+use super::{Aabb, AlphaMode, Camera, LightKind, Material, MeshData, PunctualLight, Scene, SceneCounts, Texture, Wrap};
 use anyhow::{bail, Result};
 use shader_core::pt::scene as sc;
 use std::time::{Duration, Instant};
@@ -27,7 +27,7 @@ pub struct SceneBuilder {
     materials: Vec<Material>,
     textures: Vec<Texture>,
     lights: Vec<PunctualLight>,
-    cameras: Vec<CameraDesc>,
+    cameras: Vec<Camera>,
     tris: Vec<Tri>,
     degenerate: usize,
     warnings: Vec<String>,
@@ -65,7 +65,7 @@ impl SceneBuilder {
     }
 
     /// Adds a camera (world space).
-    pub fn camera(&mut self, c: CameraDesc) {
+    pub fn camera(&mut self, c: Camera) {
         self.cameras.push(c);
     }
 

@@ -10,7 +10,7 @@
 
 use super::math::Mat4;
 use glam::DVec3;
-use super::{CameraDesc, Material, MeshData, Projection, Scene, SceneBuilder};
+use super::{Camera, Material, MeshData, Projection, Scene, SceneBuilder};
 
 /// Latitude bands per sphere of the default built-in scene (11.5k triangles).
 pub const DEFAULT_DETAIL: u32 = 16;
@@ -130,7 +130,7 @@ pub fn cornell_spheres(detail: u32) -> Scene {
         b.mesh(&sphere, gold, &Mat4::translation(DVec3::new(x, RADIUS as f64, 0.35))).expect("built-in sphere");
         b.mesh(&sphere, blue, &Mat4::translation(DVec3::new(x, RADIUS as f64, -0.3))).expect("built-in sphere");
     }
-    b.camera(CameraDesc {
+    b.camera(Camera {
         name: "default".into(),
         position: [0.0, 1.0, 3.4],
         forward: [0.0, 0.0, -1.0],

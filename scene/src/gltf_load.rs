@@ -22,7 +22,7 @@
 
 use super::math::{normalize, Mat4};
 use glam::DVec3;
-use super::{AlphaMode, CameraDesc, LightKind, Material, MeshData, Projection, PunctualLight, Scene, SceneBuilder, Texture, Wrap};
+use super::{AlphaMode, Camera, LightKind, Material, MeshData, Projection, PunctualLight, Scene, SceneBuilder, Texture, Wrap};
 use anyhow::{anyhow, bail, Context, Result};
 use gltf::mesh::Mode;
 use std::collections::HashMap;
@@ -353,7 +353,7 @@ impl<'a> Loader<'a> {
                 gltf::camera::Projection::Orthographic(o) => Projection::Orthographic { xmag: o.xmag(), ymag: o.ymag() },
             };
             let name = cam.name().or(node.name()).map(str::to_string).unwrap_or_else(|| format!("camera {}", cam.index()));
-            self.b.camera(CameraDesc { name, position: origin, forward: f.as_vec3().to_array(), up: up.as_vec3().to_array(), projection });
+            self.b.camera(Camera { name, position: origin, forward: f.as_vec3().to_array(), up: up.as_vec3().to_array(), projection });
         }
         if let Some(light) = node.light() {
             let directed = !matches!(light.kind(), gltf::khr_lights_punctual::Kind::Point);

@@ -21,6 +21,7 @@
 
 mod builder;
 mod builtin;
+mod camera;
 pub mod environment;
 mod gltf_load;
 pub mod image_file;
@@ -31,6 +32,7 @@ mod validate;
 pub use builder::SceneBuilder;
 pub use builder::{luminance, material_words};
 pub use builtin::{builtin_detail_for_triangles, builtin_triangles, uv_sphere, DEFAULT_DETAIL};
+pub use camera::{Camera, Projection};
 pub use math::Mat4;
 
 /// glTF `alphaMode`: how the base colour's alpha is used.
@@ -198,42 +200,6 @@ pub struct PunctualLight {
     pub range: f32,
 }
 
-/// A camera's projection (glTF `camera.perspective` / `camera.orthographic`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Projection {
-    /// Vertical field of view in radians, and the aspect ratio (width / height) if the file
-    /// gives one.
-    Perspective {
-        /// Vertical field of view (radians).
-        yfov: f32,
-        /// Width / height, if given.
-        aspect: Option<f32>,
-    },
-    /// Half extents of the view volume (glTF `xmag`, `ymag`).
-    Orthographic {
-        /// Half width.
-        xmag: f32,
-        /// Half height.
-        ymag: f32,
-    },
-}
-
-/// A camera in world space: it looks along `forward` with `up` upwards (glTF: its node's -Z and
-/// +Y).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CameraDesc {
-    /// Name (glTF camera or node name; "camera N" when it has none).
-    pub name: String,
-    /// World position.
-    pub position: [f32; 3],
-    /// Unit view direction.
-    pub forward: [f32; 3],
-    /// Unit up vector, orthogonal to `forward`.
-    pub up: [f32; 3],
-    /// Projection.
-    pub projection: Projection,
-}
-
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -314,7 +280,7 @@ pub struct Scene {
     /// The scene buffer (see `shader_core::pt::scene` for the layout).
     pub words: Vec<u32>,
     /// Cameras, in file order (glTF: in node traversal order of the scene).
-    pub cameras: Vec<CameraDesc>,
+    pub cameras: Vec<Camera>,
     /// World bounds of all triangles.
     pub bounds: Aabb,
     /// Everything unsupported that the scene uses, and what was done instead.
@@ -339,7 +305,7 @@ impl Scene {
     }
 
     /// The camera named `name`, or with that index.
-    pub fn camera(&self, name_or_index: &str) -> Option<&CameraDesc> {
+    pub fn camera(&self, name_or_index: &str) -> Option<&Camera> {
         if let Some(c) = self.cameras.iter().find(|c| c.name == name_or_index) {
             return Some(c);
         }

@@ -1,8 +1,11 @@
 //! Cameras of the SSR inputs: a rigid world-to-view transform, a vertical field of view and a near
-//! plane, from which the reverse-Z infinite projection of `shader_core::ssr::params` is built.
+//! plane, from which the reverse-Z infinite projection of `shader_core::ssr::params` is built
+//! (the G-buffer camera JSON's form). A scene's camera (`scene::Camera`) becomes one through the
+//! kernel's record: `Camera::from_kernel(&scene_camera.kernel(w, h)?, near)`.
 
 use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
+use shader_core::pt::camera::{Camera as KernelCamera, ORTHOGRAPHIC};
 use shader_core::ssr::mat4::Mat4;
 
 /// One frame's camera.
@@ -17,7 +20,36 @@ pub struct Camera {
 /// The f64 vector of the SSR scenes, cameras and reference (glam's, as everywhere on the host).
 pub type V3 = glam::DVec3;
 
+/// A glTF-world vector in the G-buffer's (x-mirrored) world: the path tracer's world is
+/// right-handed (glTF), the SSR G-buffer's view space is left-handed (x right, y up, +z forward).
+pub fn mirror(v: V3) -> V3 {
+    V3::new(-v.x, v.y, v.z)
+}
+
 impl Camera {
+    /// The SSR camera of a perspective kernel camera (`scene::Camera::kernel`), in the mirrored
+    /// world ([`mirror`]), with near plane `near`; an orthographic camera is an error (the SSR
+    /// pipelines project perspectively).
+    pub fn from_kernel(c: &KernelCamera, near: f32) -> Result<Camera> {
+        if c.kind == ORTHOGRAPHIC {
+            bail!("--gbuffer needs a perspective camera (the SSR pipelines project perspectively); the chosen camera is orthographic");
+        }
+        let v = |a: shader_core::Vec3| mirror(V3::new(a.x as f64, a.y as f64, a.z as f64));
+        let eye = v(c.origin);
+        let rows = [v(c.right), v(c.up), v(c.forward)];
+        let mut m = [0.0f32; 16];
+        for (i, r) in rows.iter().enumerate() {
+            for k in 0..3 {
+                m[4 * i + k] = r[k] as f32;
+            }
+            m[4 * i + 3] = -(r[0] * eye[0] + r[1] * eye[1] + r[2] * eye[2]) as f32;
+        }
+        m[15] = 1.0;
+        let cam = Camera { world_to_view: m, fov_y_degrees: (2.0 * (c.scale_y as f64).atan()).to_degrees() as f32, near };
+        cam.validate("camera")?;
+        Ok(cam)
+    }
+
     /// A camera at `eye` looking at `target` with `up` roughly up.
     pub fn look_at(eye: V3, target: V3, up: V3, fov_y_degrees: f32, near: f32) -> Camera {
         let f = (target - eye).normalize();

@@ -14,14 +14,14 @@
 //! `--frame - 1` rendered with the same settings, and its motion vectors reproject each pixel's
 //! first hit (for the sky, its direction) into that frame.
 
-use render::{CameraSpec, RenderInputs};
-use crate::camera::{Camera as SsrCamera, V3};
+use render::RenderInputs;
+use crate::camera::{mirror, Camera as SsrCamera, V3};
 use crate::gbuffer::{GBuffer, ReferenceFile};
 use crate::reference::Reference;
 use anyhow::{bail, Context, Result};
 use runner::{Backend, Launch, Timing};
 use std::path::{Path, PathBuf};
-use shader_core::pt::camera::{Camera, ORTHOGRAPHIC};
+use shader_core::pt::camera::Camera;
 use shader_core::pt::gbuffer::GBufferParams;
 use shader_core::pt::integrator::RenderParams;
 use shader_kernels::render::{gbuffer_out as layout, GBufferArgs, GBUFFER_STRIDE, PT_GBUFFER};
@@ -75,49 +75,6 @@ pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBuff
     })?;
     let values = sums.expect("at least one launch");
     Ok((GBufferSums { width: base.render.width, height: base.render.height, samples, values }, time))
-}
-
-/// A glTF-world vector in the G-buffer's (x-mirrored) world.
-pub fn mirror(v: V3) -> V3 {
-    V3::new(-v.x, v.y, v.z)
-}
-
-/// The SSR camera of a perspective kernel camera, in the mirrored world, with near plane `near`.
-pub fn ssr_camera(c: &Camera, near: f32) -> Result<SsrCamera> {
-    if c.kind == ORTHOGRAPHIC {
-        bail!("--gbuffer needs a perspective camera (the SSR pipelines project perspectively); the chosen camera is orthographic");
-    }
-    let v = |a: shader_core::Vec3| mirror(V3::new(a.x as f64, a.y as f64, a.z as f64));
-    let eye = v(c.origin);
-    let rows = [v(c.right), v(c.up), v(c.forward)];
-    let mut m = [0.0f32; 16];
-    for (i, r) in rows.iter().enumerate() {
-        for k in 0..3 {
-            m[4 * i + k] = r[k] as f32;
-        }
-        m[4 * i + 3] = -(r[0] * eye[0] + r[1] * eye[1] + r[2] * eye[2]) as f32;
-    }
-    m[15] = 1.0;
-    let cam = SsrCamera { world_to_view: m, fov_y_degrees: (2.0 * (c.scale_y as f64).atan()).to_degrees() as f32, near };
-    cam.validate("camera")?;
-    Ok(cam)
-}
-
-/// `spec` turned by `degrees` about +y through `pivot`.
-pub fn orbit(spec: &CameraSpec, pivot: [f32; 3], degrees: f64) -> CameraSpec {
-    let (s, c) = degrees.to_radians().sin_cos();
-    let rot = |a: [f32; 3]| -> [f32; 3] {
-        let (x, z) = (a[0] as f64, a[2] as f64);
-        [(c * x + s * z) as f32, a[1], (-s * x + c * z) as f32]
-    };
-    let rel = [spec.position[0] - pivot[0], spec.position[1] - pivot[1], spec.position[2] - pivot[2]];
-    let r = rot(rel);
-    CameraSpec {
-        position: [r[0] + pivot[0], r[1] + pivot[1], r[2] + pivot[2]],
-        forward: rot(spec.forward),
-        up: rot(spec.up),
-        ..spec.clone()
-    }
 }
 
 /// What [`to_ssr`] needs besides the kernel output.
@@ -243,8 +200,8 @@ pub struct Exported {
 /// the reference; `reference` names the reference entry the G-buffer's JSON will carry.
 pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSpec, current_colour: Option<&[f32]>, reference: Option<ReferenceFile>, progress: &mut dyn Progress) -> Result<Exported> {
     let (w, h) = (spec.params.width, spec.params.height);
-    let ssr_cam = ssr_camera(&spec.params.camera, spec.near)?;
-    let ssr_prev = ssr_camera(&spec.previous, spec.near)?;
+    let ssr_cam = SsrCamera::from_kernel(&spec.params.camera, spec.near)?;
+    let ssr_prev = SsrCamera::from_kernel(&spec.previous, spec.near)?;
     let t0 = std::time::Instant::now();
     let color = match current_colour {
         Some(c) if spec.previous == spec.params.camera => {

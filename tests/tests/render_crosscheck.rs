@@ -8,8 +8,8 @@
 use crosscheck::{assert_bits_equal, gpu_backend};
 use host::energy::{self, Compensation, TableSpec};
 use host::render::environment::{self as env, EnvSpec};
-use host::render::scene::{LightKind, Mat4, Material, MeshData, PunctualLight, Scene, SceneBuilder, Texture, Wrap, AlphaMode, CameraDesc, Projection};
-use host::render::{self, CameraSpec, RenderImage, RenderInputs};
+use host::render::scene::{LightKind, Mat4, Material, MeshData, PunctualLight, Scene, SceneBuilder, Texture, Wrap, AlphaMode, Camera, Projection};
+use host::render::{self, RenderImage, RenderInputs};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_BSDF, STRATEGY_LIGHT, STRATEGY_MIS};
 
@@ -20,8 +20,8 @@ fn lut() -> Vec<f32> {
 
 fn params(scene: &Scene, w: u32, h: u32, strategy: u32, compensation: u32, p_env: f32) -> RenderParams {
     let cam = match scene.cameras.first() {
-        Some(c) => CameraSpec::from_desc(c),
-        None => CameraSpec::framing(&scene.bounds),
+        Some(c) => c.clone(),
+        None => host::render::scene::Camera::framing(&scene.bounds),
     };
     RenderParams {
         width: w,
@@ -35,7 +35,7 @@ fn params(scene: &Scene, w: u32, h: u32, strategy: u32, compensation: u32, p_env
         compensation,
         clamp: 0.0,
         p_env,
-        camera: cam.camera(w, h).unwrap(),
+        camera: cam.kernel(w, h).unwrap(),
     }
 }
 
@@ -121,7 +121,7 @@ fn feature_scene() -> (Scene, env::Environment) {
     b.light(PunctualLight { name: "point".into(), kind: LightKind::Point, position: [0.5, 2.0, 1.0], direction: [0.0, -1.0, 0.0], intensity: [8.0, 7.0, 6.0], range: 10.0 });
     b.light(PunctualLight { name: "spot".into(), kind: LightKind::Spot { inner_cone: 0.3, outer_cone: 0.6 }, position: [-1.0, 2.5, 0.0], direction: [0.3, -1.0, 0.0], intensity: [20.0, 20.0, 25.0], range: 0.0 });
     b.light(PunctualLight { name: "sun".into(), kind: LightKind::Directional, position: [0.0; 3], direction: [-0.3, -0.8, -0.5], intensity: [1.5, 1.4, 1.2], range: 0.0 });
-    b.camera(CameraDesc { name: "test".into(), position: [0.0, 1.6, 3.0], forward: [0.0, -0.45, -0.89], up: [0.0, 0.89, -0.45], projection: Projection::Perspective { yfov: 0.9, aspect: None } });
+    b.camera(Camera { name: "test".into(), position: [0.0, 1.6, 3.0], forward: [0.0, -0.45, -0.89], up: [0.0, 0.89, -0.45], projection: Projection::Perspective { yfov: 0.9, aspect: None } });
     let scene = b.build().unwrap();
     let (w, h) = (16u32, 8u32);
     let map: Vec<f32> = (0..w * h).flat_map(|i| { let y = (i / w) as f32; [0.2 + 0.1 * y, 0.3, 0.1 + 0.05 * (i % w) as f32] }).collect();

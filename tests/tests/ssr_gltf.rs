@@ -7,9 +7,9 @@
 use crosscheck::ssr::sssr_passes_bit_equal;
 use crosscheck::{assert_bits_equal, gpu_backend};
 use host::render::environment::{self as env, EnvSpec};
-use host::render::gbuffer::{export_frame, orbit, FrameSpec, Quiet};
+use host::render::gbuffer::{export_frame, FrameSpec, Quiet};
 use host::render::scene::Scene;
-use host::render::{CameraSpec, RenderInputs};
+use host::render::RenderInputs;
 use host::ssr::gltf_scenes::{GltfScene, NAMES};
 use host::ssr::pipeline::{build_params, HdrpResolve, Runner};
 use host::ssr::sssr::{sssr_params, SssrSettings};
@@ -32,9 +32,9 @@ fn frames(which: GltfScene, dir: &std::path::Path) -> (GBuffer, GBuffer) {
     let e = env::build(&EnvSpec::Uniform(which.sky()), 1.0, 0.0).unwrap();
     let lut = vec![0.0; shader_core::energy::LUT_HEADER];
     let inputs = RenderInputs { scene: &sc.words, env: &e.words, lut: &lut };
-    let base = CameraSpec::from_desc(&sc.cameras[0]);
+    let base = sc.cameras[0].clone();
     let pivot = sc.bounds.bounding_sphere().0;
-    let cam = |k: f64| orbit(&base, pivot, k * which.orbit().unwrap_or(0.0)).camera(W, H).unwrap();
+    let cam = |k: f64| base.orbited(pivot, k * which.orbit().unwrap_or(0.0)).kernel(W, H).unwrap();
     let one = |k: f64| {
         let params = RenderParams {
             width: W,

@@ -4,7 +4,7 @@
 
 use super::environment::{self, EnvSpec};
 use super::scene::{builtin_detail_for_triangles, Scene};
-use super::{CameraSpec, RenderInputs};
+use super::RenderInputs;
 use crate::energy::Compensation;
 use crate::report::RunInfo;
 use anyhow::{Context, Result};
@@ -55,8 +55,8 @@ pub struct Row {
 }
 
 fn params(scene: &Scene, w: u32, h: u32, seed: u32) -> Result<RenderParams> {
-    let cam = CameraSpec::from_desc(scene.cameras.first().context("the built-in scene has a camera")?);
-    Ok(RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth: 8, rr_depth: 3, strategy: STRATEGY_MIS, compensation: Compensation::Turquin.id(), clamp: 0.0, p_env: 0.0, camera: cam.camera(w, h)? })
+    let cam = scene.cameras.first().context("the built-in scene has a camera")?;
+    Ok(RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth: 8, rr_depth: 3, strategy: STRATEGY_MIS, compensation: Compensation::Turquin.id(), clamp: 0.0, p_env: 0.0, camera: cam.kernel(w, h)? })
 }
 
 struct Timed {

@@ -3,7 +3,8 @@
 use super::environment::{self, EnvSpec};
 use super::scene::Scene;
 use super::gbuffer::Progress;
-use super::{CameraSpec, RenderInputs, ToneMap};
+use super::scene::Camera;
+use super::{RenderInputs, ToneMap};
 use crate::energy::Compensation;
 use anyhow::{bail, Context, Result};
 use runner::{Backend, DeviceChoice};
@@ -165,7 +166,7 @@ pub struct RenderCommand {
 /// A scene ready to render: the loaded scene, its camera, environment and tables.
 pub struct Prepared {
     pub scene: Scene,
-    pub camera: CameraSpec,
+    pub camera: Camera,
     pub camera_label: String,
     pub env: environment::Environment,
     pub lut: Vec<f32>,
@@ -224,18 +225,18 @@ impl RenderCommand {
             compensation: self.compensation.id(),
             clamp: self.clamp,
             p_env: prep.p_env,
-            camera: self.frame_camera(prep, 0)?.camera(self.width, self.height)?,
+            camera: self.frame_camera(prep, 0)?.kernel(self.width, self.height)?,
         })
     }
 
     /// The camera of the rendered frame (`offset` 0) or of a frame before it (`offset` -1),
     /// on the --orbit path.
-    pub fn frame_camera(&self, prep: &Prepared, offset: i32) -> Result<CameraSpec> {
+    pub fn frame_camera(&self, prep: &Prepared, offset: i32) -> Result<Camera> {
         Ok(match self.orbit {
             None => prep.camera.clone(),
             Some(deg) => {
                 let k = self.frame.unwrap_or(1) as f64 + offset as f64;
-                super::gbuffer::orbit(&prep.camera, prep.scene.bounds.bounding_sphere().0, k * deg)
+                prep.camera.orbited(prep.scene.bounds.bounding_sphere().0, k * deg)
             }
         })
     }
@@ -297,7 +298,7 @@ fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 
 impl RenderCommand {
     /// The camera with --look-from, --look-at, --up and --fov applied, and its label.
-    pub fn override_camera(&self, mut cam: CameraSpec, label: String) -> Result<(CameraSpec, String)> {
+    pub fn override_camera(&self, mut cam: Camera, label: String) -> Result<(Camera, String)> {
         let mut what = Vec::new();
         if let Some(p) = self.look_from {
             cam.position = p;
@@ -316,17 +317,17 @@ impl RenderCommand {
             what.push(format!("--up {u:?}"));
         }
         if let Some(f) = self.fov {
-            if cam.yfov.is_none() {
+            let super::scene::Projection::Perspective { yfov, .. } = &mut cam.projection else {
                 bail!("--fov {f}: the camera ({label}) is orthographic");
-            }
-            cam.yfov = Some(f.to_radians());
+            };
+            *yfov = f.to_radians();
             what.push(format!("--fov {f}"));
         }
         if what.is_empty() {
             return Ok((cam, label));
         }
         // checked here, with the options named: a zero direction or an up along the view
-        cam.camera(self.width, self.height).with_context(|| format!("camera overrides {}", what.join(" ")))?;
+        cam.kernel(self.width, self.height).with_context(|| format!("camera overrides {}", what.join(" ")))?;
         Ok((cam, format!("{label} with {}", what.join(" "))))
     }
 }
@@ -361,9 +362,9 @@ pub fn overflow_risk(scene: &Scene, env: &environment::Environment, spp: u32) ->
 
 /// The camera `--camera` names (name or index, [`Scene::camera`]), else the scene's first, else
 /// a framing.
-pub fn pick_camera(scene: &Scene, want: Option<&str>) -> Result<(CameraSpec, String)> {
+pub fn pick_camera(scene: &Scene, want: Option<&str>) -> Result<(Camera, String)> {
     let cams = &scene.cameras;
-    let label = |c: &super::scene::CameraDesc| {
+    let label = |c: &Camera| {
         let i = cams.iter().position(|x| std::ptr::eq(x, c)).unwrap_or(0);
         format!("camera {i} {:?}", c.name)
     };
@@ -372,11 +373,11 @@ pub fn pick_camera(scene: &Scene, want: Option<&str>) -> Result<(CameraSpec, Str
             let names: Vec<String> = cams.iter().enumerate().map(|(i, c)| format!("{i} {:?}", c.name)).collect();
             bail!("--camera {w:?}: no such camera; the scene has {}", if names.is_empty() { "none".to_string() } else { names.join(", ") });
         };
-        return Ok((CameraSpec::from_desc(c), label(c)));
+        return Ok((c.clone(), label(c)));
     }
     match cams.first() {
-        Some(c) => Ok((CameraSpec::from_desc(c), label(c))),
-        None => Ok((CameraSpec::framing(&scene.bounds), "framing camera (the scene has none)".into())),
+        Some(c) => Ok((c.clone(), label(c))),
+        None => Ok((Camera::framing(&scene.bounds), "framing camera (the scene has none)".into())),
     }
 }
 
@@ -650,7 +651,7 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
     let radius = prep.scene.bounds.bounding_sphere().1;
     let spec = FrameSpec {
         params: *params,
-        previous: cmd.frame_camera(prep, -1)?.camera(w, h)?,
+        previous: cmd.frame_camera(prep, -1)?.kernel(w, h)?,
         spp: cmd.spp,
         spp_per_pass: cmd.spp_per_pass,
         reference_spp: cmd.reference_spp,

@@ -199,9 +199,9 @@ pub fn builtin_input(name: &str, a: &BenchArgs) -> Result<BenchInput> {
 /// camera cut). Exports are stored in `--scene-dir` and reused when their settings match.
 pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32]) -> Result<BenchInput> {
     use crate::render::environment::{self, EnvSpec};
-    use crate::render::gbuffer::{export_frame, orbit, reference_path, FrameSpec, Quiet};
+    use crate::render::gbuffer::{export_frame, reference_path, FrameSpec, Quiet};
     use crate::render::scene::Scene as RenderScene;
-    use crate::render::{CameraSpec, RenderInputs};
+    use crate::render::RenderInputs;
     use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
     let t0 = std::time::Instant::now();
     let path = which.write(&a.scene_dir, a.cornell.as_deref())?;
@@ -210,12 +210,12 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
         anyhow::bail!("{}: the project's own scene loads with warnings: {}", path.display(), sc.warnings.join("; "));
     }
     let env = environment::build(&EnvSpec::Uniform(which.sky()), 1.0, 0.0)?;
-    let base = CameraSpec::from_desc(sc.cameras.first().with_context(|| format!("{}: no camera", path.display()))?);
+    let base = sc.cameras.first().with_context(|| format!("{}: no camera", path.display()))?.clone();
     let pivot = sc.bounds.bounding_sphere().0;
     let near = (sc.bounds.bounding_sphere().1 * 1e-3).max(1e-6);
     let frame = if which.orbit().is_some() { a.frame } else { 0 };
     let camera_at = |degrees: f64| -> Result<shader_core::pt::camera::Camera> {
-        orbit(&base, pivot, degrees).camera(a.width as u32, a.height as u32)
+        base.orbited(pivot, degrees).kernel(a.width as u32, a.height as u32)
     };
     let angle = |f: i64| which.orbit().map(|d| f as f64 * d).unwrap_or(0.0);
     let inputs = RenderInputs { scene: &sc.words, env: &env.words, lut };
