@@ -24,7 +24,7 @@
 
 use anyhow::{bail, Context, Result};
 use runner::{Backend, Launch, Timing};
-use shader_core::pt::integrator::RenderParams;
+use shader_core::pt::integrator::{PixelSums, RenderParams};
 use shader_kernels::render::{RenderArgs, OUT_STRIDE, PT_RENDER};
 
 /// Everything a launch binds besides its parameters.
@@ -93,12 +93,14 @@ impl Accumulator {
             depth: Vec::with_capacity(n),
             rays: 0.0,
         };
-        for px in self.sums.chunks_exact(OUT_STRIDE) {
-            img.color.extend(px[0..3].iter().map(|v| v * inv));
-            img.albedo.extend(px[3..6].iter().map(|v| v * inv));
-            img.normal.extend(px[6..9].iter().map(|v| v * inv));
-            img.depth.push(px[9] * inv);
-            img.rays += px[10] as f64;
+        let scaled = |v: shader_core::Vec3| [v.x * inv, v.y * inv, v.z * inv];
+        for i in 0..n {
+            let px = PixelSums::load(&self.sums, i * OUT_STRIDE);
+            img.color.extend(scaled(px.color));
+            img.albedo.extend(scaled(px.albedo));
+            img.normal.extend(scaled(px.normal));
+            img.depth.push(px.depth * inv);
+            img.rays += px.rays as f64;
         }
         img
     }

@@ -75,6 +75,21 @@ load_n!(
     load8, 8, [0, 1, 2, 3, 4, 5, 6, 7]
 );
 
+/// `buf[o..o + 3] = v` (each write dropped when out of range, as [`store`]).
+#[inline(always)]
+pub fn store_vec3(buf: &mut [f32], o: usize, v: crate::vector::Vec3) {
+    store(buf, o, v.x);
+    store(buf, o + 1, v.y);
+    store(buf, o + 2, v.z);
+}
+
+/// `buf[o..o + 3]` as a vector ([`load3`]).
+#[inline(always)]
+pub fn load_vec3(buf: &[f32], o: usize) -> crate::vector::Vec3 {
+    let [x, y, z] = load3(buf, o);
+    crate::vector::Vec3::new(x, y, z)
+}
+
 /// `buf[i]` of a word buffer, or 0 when `i` is out of range (the merging check of [`load`]).
 #[inline(always)]
 pub fn load_u32(buf: &[u32], i: usize) -> u32 {

@@ -8,14 +8,13 @@
 //! XYZ, depth sum, rays traced. [`pt_gbuffer`] binds [`GBufferArgs`] at 0 and writes
 //! [`GBUFFER_STRIDE`] floats per pixel (see [`gbuffer_pixel`]).
 
-use shader_core::buffer::store;
-use shader_core::pt::gbuffer::{self, GBufferParams};
-use shader_core::pt::integrator::{render_pixel, RenderParams};
+use shader_core::pt::gbuffer::{self, GBufferParams, GBufferPixel};
+use shader_core::pt::integrator::{render_pixel, PixelSums, RenderParams};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
-/// Output floats per pixel.
-pub const OUT_STRIDE: usize = 11;
+/// Output floats per pixel (`shader_core::pt::integrator::PixelSums`).
+pub const OUT_STRIDE: usize = PixelSums::WORDS;
 
 /// The launch record of [`pt_render`], shared by the host and the kernel (`#[repr(C)]`, all
 /// 4-byte fields): the launch fields the launcher fills, then the integrator's parameters as
@@ -46,13 +45,7 @@ impl RenderArgs {
 /// Invocation `i` of a launch: renders pixel `first_pixel + i` into `out[OUT_STRIDE i..]`.
 #[inline]
 pub fn pixel(i: u32, args: &RenderArgs, scene: &[u32], env: &[f32], lut: &[f32], out: &mut [f32]) {
-    let s = render_pixel(scene, env, lut, &args.params, args.first_pixel + i);
-    let o = i as usize * OUT_STRIDE;
-    store3(out, o, s.color);
-    store3(out, o + 3, s.albedo);
-    store3(out, o + 6, s.normal);
-    store(out, o + 9, s.depth);
-    store(out, o + 10, s.rays);
+    render_pixel(scene, env, lut, &args.params, args.first_pixel + i).store(out, i as usize * OUT_STRIDE);
 }
 
 /// Entry point of [`pixel`].
@@ -71,44 +64,8 @@ pub fn pt_render(
     }
 }
 
-/// Output floats per pixel of [`pt_gbuffer`].
-pub const GBUFFER_STRIDE: usize = 27;
-
-/// Offsets of [`gbuffer_pixel`]'s values in a pixel's `GBUFFER_STRIDE` floats: the G-buffer
-/// ([`DEPTH`](gbuffer_out::DEPTH) .. [`DEPTH_FAR`](gbuffer_out::DEPTH_FAR), the same in every
-/// launch), then the reference sums from [`ALL`](gbuffer_out::ALL) on (added over launches).
-pub mod gbuffer_out {
-    /// Linear view depth.
-    pub const DEPTH: usize = 0;
-    /// World normal XYZ.
-    pub const NORMAL: usize = 1;
-    /// Perceptual roughness.
-    pub const ROUGHNESS: usize = 4;
-    /// Metallic.
-    pub const METALLIC: usize = 5;
-    /// Base colour RGB.
-    pub const BASE: usize = 6;
-    /// 1 where reference samples were taken, else 0.
-    pub const GLOSSY: usize = 9;
-    /// Far depth of the texel (`shader_core::pt::gbuffer::GBufferPixel::depth_far`).
-    pub const DEPTH_FAR: usize = 10;
-    /// Sum of w L, all geometry (RGB); the first summed value.
-    pub const ALL: usize = 11;
-    /// Sum of w L, on-screen geometry (RGB).
-    pub const ONSCREEN: usize = 14;
-    /// Sum of w F L, all geometry (RGB).
-    pub const SPECULAR_ALL: usize = 17;
-    /// Sum of w F L, on-screen geometry (RGB).
-    pub const SPECULAR_ONSCREEN: usize = 20;
-    /// Sum of w.
-    pub const WEIGHT: usize = 23;
-    /// Sum of w over samples the same both ways.
-    pub const WEIGHT_SAME: usize = 24;
-    /// Samples taken.
-    pub const SAMPLES: usize = 25;
-    /// Rays traced.
-    pub const RAYS: usize = 26;
-}
+/// Output floats per pixel of [`pt_gbuffer`] (`shader_core::pt::gbuffer::GBufferPixel`).
+pub const GBUFFER_STRIDE: usize = GBufferPixel::WORDS;
 
 /// The launch record of [`pt_gbuffer`]: the launch fields, then the G-buffer parameters.
 #[repr(C)]
@@ -135,34 +92,10 @@ impl GBufferArgs {
 }
 
 /// Invocation `i`: pixel `first_pixel + i` of `shader_core::pt::gbuffer::gbuffer_pixel` into
-/// `out[GBUFFER_STRIDE i..]` at the offsets of [`gbuffer_out`].
+/// `out[GBUFFER_STRIDE i..]` (`GBufferPixel::store`).
 #[inline]
 pub fn gbuffer_pixel(i: u32, args: &GBufferArgs, scene: &[u32], env: &[f32], lut: &[f32], out: &mut [f32]) {
-    let g = gbuffer::gbuffer_pixel(scene, env, lut, &args.params, args.first_pixel + i);
-    let o = i as usize * GBUFFER_STRIDE;
-    use gbuffer_out as layout;
-    store(out, o + layout::DEPTH, g.depth);
-    store3(out, o + layout::NORMAL, g.normal);
-    store(out, o + layout::ROUGHNESS, g.roughness);
-    store(out, o + layout::METALLIC, g.metallic);
-    store3(out, o + layout::BASE, g.base);
-    store(out, o + layout::GLOSSY, g.glossy as f32);
-    store(out, o + layout::DEPTH_FAR, g.depth_far);
-    store3(out, o + layout::ALL, g.all);
-    store3(out, o + layout::ONSCREEN, g.onscreen);
-    store3(out, o + layout::SPECULAR_ALL, g.specular_all);
-    store3(out, o + layout::SPECULAR_ONSCREEN, g.specular_onscreen);
-    store(out, o + layout::WEIGHT, g.weight);
-    store(out, o + layout::WEIGHT_SAME, g.weight_same);
-    store(out, o + layout::SAMPLES, g.samples);
-    store(out, o + layout::RAYS, g.rays);
-}
-
-#[inline]
-fn store3(out: &mut [f32], o: usize, v: shader_core::Vec3) {
-    store(out, o, v.x);
-    store(out, o + 1, v.y);
-    store(out, o + 2, v.z);
+    gbuffer::gbuffer_pixel(scene, env, lut, &args.params, args.first_pixel + i).store(out, i as usize * GBUFFER_STRIDE);
 }
 
 /// Entry point of [`gbuffer_pixel`].

@@ -19,6 +19,7 @@
 //! tracers' mip-0 slab then ends where that surface does (`shader_core::ssr::trace::slab_base`);
 //! G-buffers without it keep HDRP's constant slab.
 
+use shader_core::ssr::trace::{GBufferTexel, GBUF_STRIDE};
 use super::camera::Camera;
 use fileio::{read_exr, write_exr};
 use anyhow::{bail, Context, Result};
@@ -240,21 +241,19 @@ impl GBuffer {
     }
 
     /// Pack depth, normal, roughness, metalness and motion into the kernels' G-buffer layout
-    /// (`shader_core::ssr::trace::GBUF_STRIDE` floats per pixel).
+    /// (`shader_core::ssr::layout::GBufferTexel`, `GBUF_STRIDE` floats per pixel).
     pub fn packed(&self) -> Vec<f32> {
         let n = self.width * self.height;
-        let mut g = Vec::with_capacity(n * 8);
+        let mut g = vec![0.0; n * GBUF_STRIDE];
         for i in 0..n {
-            g.extend_from_slice(&[
-                self.depth[i],
-                self.normal[3 * i],
-                self.normal[3 * i + 1],
-                self.normal[3 * i + 2],
-                self.roughness[i],
-                self.metalness[i],
-                self.motion[2 * i],
-                self.motion[2 * i + 1],
-            ]);
+            let texel = GBufferTexel {
+                depth: self.depth[i],
+                normal: shader_core::Vec3::new(self.normal[3 * i], self.normal[3 * i + 1], self.normal[3 * i + 2]),
+                roughness: self.roughness[i],
+                metalness: self.metalness[i],
+                motion: [self.motion[2 * i], self.motion[2 * i + 1]],
+            };
+            texel.store(&mut g, i * GBUF_STRIDE);
         }
         g
     }

@@ -24,10 +24,8 @@ use std::path::{Path, PathBuf};
 use shader_core::pt::camera::Camera;
 use shader_core::pt::gbuffer::GBufferParams;
 use shader_core::pt::integrator::RenderParams;
-use shader_kernels::render::{gbuffer_out as layout, GBufferArgs, GBUFFER_STRIDE, PT_GBUFFER};
-
-/// Values per pixel that are the G-buffer itself (the same in every launch); the rest are sums.
-const GBUFFER_VALUES: usize = layout::ALL;
+use shader_core::pt::gbuffer::GBufferPixel;
+use shader_kernels::render::{GBufferArgs, GBUFFER_STRIDE, PT_GBUFFER};
 
 /// One launch: the G-buffer and reference samples `p.render.sample_base .. + p.render.spp` of
 /// every pixel; `GBUFFER_STRIDE` floats per pixel.
@@ -36,15 +34,34 @@ pub fn launch(backend: &Backend, inputs: &RenderInputs<'_>, p: &GBufferParams) -
     backend.run(&PT_GBUFFER, Launch::new(GBufferArgs::new(p), &inputs.bindings()), pixels, GBUFFER_STRIDE)
 }
 
-/// The kernel's output over all launches: `GBUFFER_STRIDE` values per pixel, the reference
-/// columns summed over launches.
+/// The kernel's output over all launches: one record per pixel, its reference sums added over
+/// launches (`GBufferPixel::add_sums`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GBufferSums {
     pub width: u32,
     pub height: u32,
     /// Reference samples per glossy pixel.
     pub samples: u32,
-    pub values: Vec<f32>,
+    pub pixels: Vec<GBufferPixel>,
+}
+
+impl GBufferSums {
+    /// The records as the kernel's buffer holds them (`GBUFFER_STRIDE` words per pixel): what
+    /// a CPU-vs-GPU comparison checks bit for bit.
+    pub fn words(&self) -> Vec<f32> {
+        let mut w = vec![0.0; self.pixels.len() * GBUFFER_STRIDE];
+        for (i, p) in self.pixels.iter().enumerate() {
+            p.store(&mut w, i * GBUFFER_STRIDE);
+        }
+        w
+    }
+
+    /// Add `o`'s reference sums pixel by pixel (two runs over disjoint samples).
+    fn add_sums(&mut self, o: &[GBufferPixel]) {
+        for (a, b) in self.pixels.iter_mut().zip(o) {
+            a.add_sums(b);
+        }
+    }
 }
 
 /// The G-buffer and `samples` reference samples per glossy pixel in launches of at most
@@ -54,27 +71,21 @@ pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBuff
     if per_pass == 0 {
         bail!("reference samples per pass must be at least 1");
     }
-    let mut sums: Option<Vec<f32>> = None;
+    let mut sums: Option<GBufferSums> = None;
     let (_, time) = runner::in_launches(samples, per_pass, || false, |done, n| {
         let mut p = *base;
         p.render.spp = n;
         p.render.sample_base = base.render.sample_base + done;
         let (out, t) = launch(backend, inputs, &p).with_context(|| format!("G-buffer launch at reference sample {done}"))?;
+        let pixels: Vec<GBufferPixel> = (0..out.len() / GBUFFER_STRIDE).map(|i| GBufferPixel::load(&out, i * GBUFFER_STRIDE)).collect();
         match &mut sums {
-            None => sums = Some(out),
-            Some(s) => {
-                for (a, b) in s.chunks_exact_mut(GBUFFER_STRIDE).zip(out.chunks_exact(GBUFFER_STRIDE)) {
-                    for k in GBUFFER_VALUES..GBUFFER_STRIDE {
-                        a[k] += b[k];
-                    }
-                }
-            }
+            None => sums = Some(GBufferSums { width: base.render.width, height: base.render.height, samples, pixels }),
+            Some(s) => s.add_sums(&pixels),
         }
         progress(done + n);
         Ok(t)
     })?;
-    let values = sums.expect("at least one launch");
-    Ok((GBufferSums { width: base.render.width, height: base.render.height, samples, values }, time))
+    Ok((sums.expect("at least one launch"), time))
 }
 
 /// What [`to_ssr`] needs besides the kernel output.
@@ -111,19 +122,19 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
         samples: g.samples,
         noise_var: None,
     };
-    for (i, px) in g.values.chunks_exact(GBUFFER_STRIDE).enumerate() {
+    for (i, px) in g.pixels.iter().enumerate() {
         let (sx, sy) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
-        let depth = px[layout::DEPTH];
+        let depth = px.depth;
         gb.depth.push(depth);
-        let nm = mirror(V3::new(px[layout::NORMAL] as f64, px[layout::NORMAL + 1] as f64, px[layout::NORMAL + 2] as f64));
+        let nm = mirror(V3::new(px.normal.x as f64, px.normal.y as f64, px.normal.z as f64));
         gb.normal.extend(nm.as_vec3().to_array());
-        gb.roughness.push(px[layout::ROUGHNESS]);
-        gb.metalness.push(px[layout::METALLIC]);
-        gb.base_color.extend_from_slice(&px[layout::BASE..layout::BASE + 3]);
+        gb.roughness.push(px.roughness);
+        gb.metalness.push(px.metallic);
+        gb.base_color.extend_from_slice(&rgb(px.base));
         gb.motion.extend(f.ssr_camera.motion_at_depth(&f.ssr_previous, w, h, sx, sy, depth));
-        let glossy = px[layout::GLOSSY] != 0.0;
-        gb.depth_far.as_mut().expect("allocated above").push(px[layout::DEPTH_FAR]);
-        let (weight, same, samples) = (px[layout::WEIGHT], px[layout::WEIGHT_SAME], px[layout::SAMPLES]);
+        let glossy = px.glossy != 0;
+        gb.depth_far.as_mut().expect("allocated above").push(px.depth_far);
+        let (weight, same, samples) = (px.weight, px.weight_same, px.samples);
         if !glossy || !(weight > 0.0) {
             r.all.extend_from_slice(&f.fallback);
             r.onscreen.extend_from_slice(&f.fallback);
@@ -131,10 +142,10 @@ pub fn to_ssr(g: &GBufferSums, f: Frames, reference: Option<ReferenceFile>) -> R
             r.specular_onscreen.extend_from_slice(&[0.0; 3]);
             r.onscreen_fraction.push(if glossy { 1.0 } else { 0.0 });
         } else {
-            r.all.extend(px[layout::ALL..layout::ALL + 3].iter().map(|v| v / weight));
-            r.onscreen.extend(px[layout::ONSCREEN..layout::ONSCREEN + 3].iter().map(|v| v / weight));
-            r.specular_all.extend(px[layout::SPECULAR_ALL..layout::SPECULAR_ALL + 3].iter().map(|v| v / samples));
-            r.specular_onscreen.extend(px[layout::SPECULAR_ONSCREEN..layout::SPECULAR_ONSCREEN + 3].iter().map(|v| v / samples));
+            r.all.extend(rgb(px.all).map(|v| v / weight));
+            r.onscreen.extend(rgb(px.onscreen).map(|v| v / weight));
+            r.specular_all.extend(rgb(px.specular_all).map(|v| v / samples));
+            r.specular_onscreen.extend(rgb(px.specular_onscreen).map(|v| v / samples));
             r.onscreen_fraction.push(same / weight);
         }
         r.glossy.push(glossy);
@@ -233,11 +244,7 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
         let (b, tb) = render_gbuffer(backend, inputs, &second, spec.reference_spp - half, spec.spp_per_pass, |d| progress.update(half + d))?;
         let noise = (noise_floor(&a, &b), pixel_noise_var(&a, &b));
         let mut sum = a;
-        for (x, y) in sum.values.chunks_exact_mut(GBUFFER_STRIDE).zip(b.values.chunks_exact(GBUFFER_STRIDE)) {
-            for k in GBUFFER_VALUES..GBUFFER_STRIDE {
-                x[k] += y[k];
-            }
-        }
+        sum.add_sums(&b.pixels);
         sum.samples = spec.reference_spp;
         Ok((sum, ta + tb, noise))
     });
@@ -245,7 +252,7 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
     let (sums, gbuffer_time, (noise, noise_var)) = r?;
     let reference = reference.map(|r| ReferenceFile { noise_rel: noise, ..r });
     let gbuffer_wall = t1.elapsed().as_secs_f64();
-    let rays: f64 = sums.values.chunks_exact(GBUFFER_STRIDE).map(|p| p[layout::RAYS] as f64).sum();
+    let rays: f64 = sums.pixels.iter().map(|p| p.rays as f64).sum();
     let (gbuffer, mut reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: spec.fallback }, reference)?;
     if let Some(r) = reference.as_mut() {
         r.noise_var = noise_var;
@@ -259,15 +266,16 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
 /// independent halves). `None` when no pixel has reference weight.
 pub fn noise_floor(a: &GBufferSums, b: &GBufferSums) -> Option<f64> {
     let (mut d2, mut r2) = (0.0f64, 0.0f64);
-    for (x, y) in a.values.chunks_exact(GBUFFER_STRIDE).zip(b.values.chunks_exact(GBUFFER_STRIDE)) {
-        let (wa, wb) = (f64::from(x[layout::WEIGHT]), f64::from(y[layout::WEIGHT]));
-        if x[layout::GLOSSY] == 0.0 || !(wa > 0.0) || !(wb > 0.0) {
+    for (x, y) in a.pixels.iter().zip(&b.pixels) {
+        let (wa, wb) = (f64::from(x.weight), f64::from(y.weight));
+        if x.glossy == 0 || !(wa > 0.0) || !(wb > 0.0) {
             continue;
         }
-        for c in layout::ALL..layout::ALL + 3 {
-            let (ra, rb) = (f64::from(x[c]) / wa, f64::from(y[c]) / wb);
+        for c in 0..3 {
+            let (xa, yb) = (f64::from(rgb(x.all)[c]), f64::from(rgb(y.all)[c]));
+            let (ra, rb) = (xa / wa, yb / wb);
             d2 += (ra - rb).powi(2) / 4.0;
-            r2 += ((f64::from(x[c]) + f64::from(y[c])) / (wa + wb)).powi(2);
+            r2 += ((xa + yb) / (wa + wb)).powi(2);
         }
     }
     (r2 > 0.0).then(|| (d2 / r2).sqrt())
@@ -278,19 +286,24 @@ pub fn noise_floor(a: &GBufferSums, b: &GBufferSums) -> Option<f64> {
 /// on-screen reflections, averaged over RGB; 0 where either half has no weight.
 pub fn pixel_noise_var(a: &GBufferSums, b: &GBufferSums) -> Option<Vec<f32>> {
     let v = a
-        .values
-        .chunks_exact(GBUFFER_STRIDE)
-        .zip(b.values.chunks_exact(GBUFFER_STRIDE))
+        .pixels
+        .iter()
+        .zip(&b.pixels)
         .map(|(x, y)| {
-            let (wa, wb) = (f64::from(x[layout::WEIGHT]), f64::from(y[layout::WEIGHT]));
-            if x[layout::GLOSSY] == 0.0 || !(wa > 0.0) || !(wb > 0.0) {
+            let (wa, wb) = (f64::from(x.weight), f64::from(y.weight));
+            if x.glossy == 0 || !(wa > 0.0) || !(wb > 0.0) {
                 return 0.0;
             }
-            let d: f64 = (layout::ONSCREEN..layout::ONSCREEN + 3).map(|c| ((f64::from(x[c]) / wa - f64::from(y[c]) / wb) / 2.0).powi(2)).sum();
+            let d: f64 = (0..3).map(|c| ((f64::from(rgb(x.onscreen)[c]) / wa - f64::from(rgb(y.onscreen)[c]) / wb) / 2.0).powi(2)).sum();
             (d / 3.0) as f32
         })
         .collect();
     Some(v)
+}
+
+/// A kernel vector's components.
+fn rgb(v: shader_core::Vec3) -> [f32; 3] {
+    [v.x, v.y, v.z]
 }
 
 /// The reference EXR beside G-buffer `path`: `<stem>.reference.exr`.

@@ -86,7 +86,7 @@ fn ssr_passes_match_gpu_bit_for_bit_on_gltf_scenes() {
             assert_bits_equal(&format!("{name} HDRP trace mode {mode}"), RAY_STRIDE, &rc, &q.hdrp_trace(&consts, &gbuf, &dp, &pixels).unwrap());
             let hc = c.ray_hits(&consts, &gbuf, &cp, &rc).unwrap();
             assert_bits_equal(&format!("{name} HDRP hit records mode {mode}"), HIT_STRIDE, &hc, &q.ray_hits(&consts, &gbuf, &cp, &rc).unwrap());
-            hits += rc.chunks_exact(RAY_STRIDE).filter(|r| r[3].to_bits() & shader_core::ssr::trace::info::HIT != 0).count();
+            hits += rc.chunks_exact(RAY_STRIDE).filter(|r| r[shader_core::ssr::trace::RAY_INFO].to_bits() & shader_core::ssr::trace::info::HIT != 0).count();
             for m in [HdrpResolve::Approx, HdrpResolve::Block3x3, HdrpResolve::Cross5] {
                 let oc = c.hdrp_reproject(&consts, &gbuf, &cp, &rc, &pixels, m).unwrap();
                 assert_bits_equal(&format!("{name} HDRP resolve {}", m.label()), 4, &oc, &q.hdrp_reproject(&consts, &gbuf, &cp, &rc, &pixels, m).unwrap());

@@ -14,7 +14,7 @@ use crate::cli_args::{f32_in, f32_in_half_open, pixels, u32_of};
 use crate::{Backend, DeviceChoice};
 use anyhow::{bail, Context, Result};
 use shader_core::ssr::stochastic::{TILE_HIZ, TILE_LINEAR, TILE_MIXED, TILE_SKIP};
-use shader_core::ssr::trace::{info, RAY_STRIDE};
+use shader_core::ssr::trace::{info, RAY_INFO, RAY_STRIDE};
 use std::path::{Path, PathBuf};
 
 /// Which pipeline.
@@ -319,7 +319,7 @@ pub fn hit_and_steps(result: &SsrResult) -> (Vec<f32>, Vec<f32>) {
         let mut valid = 0.0;
         for k in 0..per.max(1) {
             let b = (i * per.max(1) + k) * RAY_STRIDE;
-            let bits = result.rays[b + 3].to_bits();
+            let bits = result.rays[b + RAY_INFO].to_bits();
             if bits & info::VALID != 0 {
                 valid += 1.0;
                 if bits & info::HIT != 0 {

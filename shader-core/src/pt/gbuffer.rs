@@ -96,6 +96,73 @@ pub struct GBufferPixel {
     pub rays: f32,
 }
 
+impl GBufferPixel {
+    /// f32 words of the record in a buffer: the G-buffer (depth, normal, roughness, metallic,
+    /// base colour, glossy, far depth: the same in every launch), then the reference sums from
+    /// [`GBufferPixel::FIRST_SUM`] on (added over launches: [`GBufferPixel::add_sums`]).
+    pub const WORDS: usize = 27;
+    /// Word of the first summed value (`all`).
+    pub const FIRST_SUM: usize = 11;
+
+    /// Write the record at `out[o..o + WORDS]` (the G-buffer kernel's output).
+    #[inline]
+    pub fn store(&self, out: &mut [f32], o: usize) {
+        use crate::buffer::{store, store_vec3};
+        store(out, o, self.depth);
+        store_vec3(out, o + 1, self.normal);
+        store(out, o + 4, self.roughness);
+        store(out, o + 5, self.metallic);
+        store_vec3(out, o + 6, self.base);
+        store(out, o + 9, self.glossy as f32);
+        store(out, o + 10, self.depth_far);
+        store_vec3(out, o + 11, self.all);
+        store_vec3(out, o + 14, self.onscreen);
+        store_vec3(out, o + 17, self.specular_all);
+        store_vec3(out, o + 20, self.specular_onscreen);
+        store(out, o + 23, self.weight);
+        store(out, o + 24, self.weight_same);
+        store(out, o + 25, self.samples);
+        store(out, o + 26, self.rays);
+    }
+
+    /// The record at `buf[o..o + WORDS]` (the host reading a launch's output).
+    #[inline]
+    pub fn load(buf: &[f32], o: usize) -> GBufferPixel {
+        use crate::buffer::{load, load_vec3};
+        GBufferPixel {
+            depth: load(buf, o),
+            normal: load_vec3(buf, o + 1),
+            roughness: load(buf, o + 4),
+            metallic: load(buf, o + 5),
+            base: load_vec3(buf, o + 6),
+            glossy: load(buf, o + 9) as u32,
+            depth_far: load(buf, o + 10),
+            all: load_vec3(buf, o + 11),
+            onscreen: load_vec3(buf, o + 14),
+            specular_all: load_vec3(buf, o + 17),
+            specular_onscreen: load_vec3(buf, o + 20),
+            weight: load(buf, o + 23),
+            weight_same: load(buf, o + 24),
+            samples: load(buf, o + 25),
+            rays: load(buf, o + 26),
+        }
+    }
+
+    /// Add `o`'s reference sums (the words from [`GBufferPixel::FIRST_SUM`] on) to this
+    /// record's, keeping its G-buffer: two launches' samples of one pixel.
+    #[inline]
+    pub fn add_sums(&mut self, o: &GBufferPixel) {
+        self.all = self.all + o.all;
+        self.onscreen = self.onscreen + o.onscreen;
+        self.specular_all = self.specular_all + o.specular_all;
+        self.specular_onscreen = self.specular_onscreen + o.specular_onscreen;
+        self.weight += o.weight;
+        self.weight_same += o.weight_same;
+        self.samples += o.samples;
+        self.rays += o.rays;
+    }
+}
+
 /// G2 / G1 of reflected direction `l` at view direction `v` (both local, `v.z > 0`, `l.z > 0`)
 /// for GGX with isotropic `alpha`: the weight of a visible-normal sample in the normalized
 /// reflection.

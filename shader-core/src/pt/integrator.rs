@@ -94,6 +94,33 @@ pub struct PixelSums {
     pub rays: f32,
 }
 
+impl PixelSums {
+    /// f32 words of the record in a buffer: colour, albedo, normal (3 each), depth, rays.
+    pub const WORDS: usize = 11;
+
+    /// Write the record at `out[o..o + WORDS]` (the render kernel's output).
+    #[inline]
+    pub fn store(&self, out: &mut [f32], o: usize) {
+        crate::buffer::store_vec3(out, o, self.color);
+        crate::buffer::store_vec3(out, o + 3, self.albedo);
+        crate::buffer::store_vec3(out, o + 6, self.normal);
+        crate::buffer::store(out, o + 9, self.depth);
+        crate::buffer::store(out, o + 10, self.rays);
+    }
+
+    /// The record at `buf[o..o + WORDS]` (the host reading a launch's output).
+    #[inline]
+    pub fn load(buf: &[f32], o: usize) -> PixelSums {
+        PixelSums {
+            color: crate::buffer::load_vec3(buf, o),
+            albedo: crate::buffer::load_vec3(buf, o + 3),
+            normal: crate::buffer::load_vec3(buf, o + 6),
+            depth: crate::buffer::load(buf, o + 9),
+            rays: crate::buffer::load(buf, o + 10),
+        }
+    }
+}
+
 /// Power heuristic weight of a sample with density `a` against `b` (beta = 2).
 #[inline]
 pub fn power_heuristic(a: f32, b: f32) -> f32 {

@@ -3,9 +3,65 @@
 
 use crate::vector::Vec3;
 
-/// Floats per G-buffer texel: depth, normal (world) x y z, perceptual roughness, metalness,
-/// motion x y (UV units).
+/// Floats per G-buffer texel ([`GBufferTexel`]): depth, normal (world) x y z, perceptual
+/// roughness, metalness, motion x y (UV units).
 pub const GBUF_STRIDE: usize = 8;
+
+/// Word offsets of a [`GBufferTexel`]'s fields (depth is word 0): the passes read the fields
+/// they need one by one.
+pub mod gbuf {
+    /// World normal x y z.
+    pub const NORMAL: usize = 1;
+    /// Perceptual roughness.
+    pub const ROUGHNESS: usize = 4;
+    /// Metalness.
+    pub const METALNESS: usize = 5;
+    /// Motion x y (UV units).
+    pub const MOTION: usize = 6;
+}
+
+/// One G-buffer texel as the SSR passes read it ([`GBUF_STRIDE`] words at the offsets of
+/// [`gbuf`]): written by the host (`ssr::GBuffer::packed`) through [`GBufferTexel::store`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GBufferTexel {
+    /// Linear view depth (+inf for the sky).
+    pub depth: f32,
+    /// World normal.
+    pub normal: Vec3,
+    /// Perceptual roughness.
+    pub roughness: f32,
+    /// Metalness.
+    pub metalness: f32,
+    /// Motion vector (UV units): this frame's UV minus the previous frame's.
+    pub motion: [f32; 2],
+}
+
+impl GBufferTexel {
+    /// Write the texel at `buf[o..o + GBUF_STRIDE]`.
+    #[inline]
+    pub fn store(&self, buf: &mut [f32], o: usize) {
+        use crate::buffer::{store, store_vec3};
+        store(buf, o, self.depth);
+        store_vec3(buf, o + gbuf::NORMAL, self.normal);
+        store(buf, o + gbuf::ROUGHNESS, self.roughness);
+        store(buf, o + gbuf::METALNESS, self.metalness);
+        store(buf, o + gbuf::MOTION, self.motion[0]);
+        store(buf, o + gbuf::MOTION + 1, self.motion[1]);
+    }
+
+    /// The texel at `buf[o..o + GBUF_STRIDE]`.
+    #[inline]
+    pub fn load(buf: &[f32], o: usize) -> GBufferTexel {
+        use crate::buffer::{load, load_vec3};
+        GBufferTexel {
+            depth: load(buf, o),
+            normal: load_vec3(buf, o + gbuf::NORMAL),
+            roughness: load(buf, o + gbuf::ROUGHNESS),
+            metalness: load(buf, o + gbuf::METALNESS),
+            motion: [load(buf, o + gbuf::MOTION), load(buf, o + gbuf::MOTION + 1)],
+        }
+    }
+}
 
 /// A shaded pixel of the G-buffer in view space.
 #[derive(Clone, Copy, Debug, Default)]

@@ -17,7 +17,7 @@
 use crate::ieee;
 use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_FIS, FLAG_RAY_COLOR};
 use super::compare::clampf;
-use super::layout::{info, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
+use super::layout::{gbuf, info, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
 pub use super::layout::{COLOR_STRIDE, HIT_COLOR, HIT_FADE, HIT_PDF, HIT_STRIDE, HIT_TAN_HALF, HIT_UV, OUT_STRIDE};
 use super::trace::{load_surface, view_position};
 use crate::buffer::{load, load2, load3, load4, load8};
@@ -313,8 +313,8 @@ pub fn reproject_hit(p: &SsrParams, gbuf: &[f32], hx: f32, hy: f32) -> (f32, f32
     let x = hx as u32;
     let y = hy as u32;
     let b = ((y * p.width + x) as usize) * GBUF_STRIDE;
-    let u = ieee::div(hx, p.width as f32) - load(gbuf, b + 6);
-    let v = ieee::div(hy, p.height as f32) - load(gbuf, b + 7);
+    let u = ieee::div(hx, p.width as f32) - load(gbuf, b + gbuf::MOTION);
+    let v = ieee::div(hy, p.height as f32) - load(gbuf, b + gbuf::MOTION + 1);
     (u, v)
 }
 
@@ -369,7 +369,7 @@ pub fn hdrp_reproject_approx(
         store(out, ob, Vec3::ZERO, 0.0);
         return;
     }
-    let rough = load(gbuf, i * GBUF_STRIDE + 4);
+    let rough = load(gbuf, i * GBUF_STRIDE + gbuf::ROUGHNESS);
     let (u, v) = reproject_hit(p, gbuf, hx, hy);
     let opacity = edge_of_screen_fade(u, v, p.edge_fade_rcp_length)
         * perceptual_roughness_fade(rough, p.roughness_fade_rcp_length, p.roughness_fade_end_times_rcp_length);

@@ -34,7 +34,7 @@ pub fn fg_pixel(p: &SsrParams, gbuf: &[f32], base_color: &[f32], lut: &[f32], x:
         return Vec3::ZERO;
     }
     let i = (y * p.width + x) as usize;
-    let metalness = load(gbuf, i * GBUF_STRIDE + 5);
+    let metalness = load(gbuf, i * GBUF_STRIDE + super::layout::gbuf::METALNESS);
     let mu = s.n.dot(s.v);
     let (e, ep) = lut_e_and_e_prime(lut, mu, s.perceptual_roughness);
     // A dielectric's f0 is 0.04 whatever its base colour (0.04 + (base - 0.04) * 0 for a finite

@@ -14,7 +14,7 @@ use crate::dispatch::groups_2d;
 use crate::ieee;
 use super::params::{SsrParams, FLAG_FIS, FLAG_RAY_COLOR, FLAG_REUSE, FLAG_SAMPLED_PDF, REPROJECT_HIT, TRACE_HIZ, TRACE_LINEAR_CROSSING};
 use super::compare::{clampf, maxf, minf};
-use super::layout::{info, Surface, HIT_FADE, HIT_STRIDE, HIT_TAN_HALF, OUT_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
+use super::layout::{gbuf, info, Surface, HIT_FADE, HIT_STRIDE, HIT_TAN_HALF, OUT_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
 use super::resolve::{hit_color, lambda_cos, load_hit_pos_pdf, log2_approx, perceptual_roughness_fade, store as resolve_store, store_resolved, stored_hit_color};
 pub use super::sampling::{reflection_pdf, sample_ray, sample_reflection, MIRROR_ROUGHNESS};
 use crate::frame::orthonormal_basis;
@@ -598,8 +598,8 @@ pub fn history_texel(p: &SsrParams, prev_gbuf: &[f32], history: &[f32], n_world:
     let accumulated = load(history, (t as usize) * HISTORY_STRIDE + 4) >= 1.0;
     let gb = (t as usize) * super::trace::GBUF_STRIDE;
     let zp = load(prev_gbuf, gb);
-    let np = Vec3::new(load(prev_gbuf, gb + 1), load(prev_gbuf, gb + 2), load(prev_gbuf, gb + 3));
-    let rp = load(prev_gbuf, gb + 4);
+    let np = Vec3::new(load(prev_gbuf, gb + gbuf::NORMAL), load(prev_gbuf, gb + gbuf::NORMAL + 1), load(prev_gbuf, gb + gbuf::NORMAL + 2));
+    let rp = load(prev_gbuf, gb + gbuf::ROUGHNESS);
     let rough_ok = !(p.history_roughness_tolerance >= 0.0) || (rp - rough).abs() <= p.history_roughness_tolerance;
     let normal_ok = !(p.history_normal_cos > -1.0) || np.dot(n_world) >= p.history_normal_cos;
     let zp_ok = zp > 0.0 && zp < f32::INFINITY;
@@ -646,7 +646,7 @@ pub fn temporal_pixel(
     let s = load_surface(p, gbuf, x, y);
     let z = load(gbuf, gi);
     let geometry = z > 0.0 && z < f32::INFINITY;
-    let n_world = Vec3::new(load(gbuf, gi + 1), load(gbuf, gi + 2), load(gbuf, gi + 3));
+    let n_world = Vec3::new(load(gbuf, gi + gbuf::NORMAL), load(gbuf, gi + gbuf::NORMAL + 1), load(gbuf, gi + gbuf::NORMAL + 2));
     let p_world = p.inv_view.transform_point(s.pos);
     // Both candidates are evaluated unconditionally and selected afterwards (straight-line code).
     // The hit distance comes from its own pass ([`hit_distance_pixel`]), which keeps this

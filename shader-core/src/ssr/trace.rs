@@ -33,7 +33,7 @@ use crate::ieee;
 use super::params::{mip_block_texels, mip_children, mip_size, MipBlock, SsrParams, FLAG_BACKFACE_REJECT, FLAG_STOCHASTIC};
 use crate::vector::Vec3;
 pub use super::compare::{clampf, floor_index, maxf, minf};
-pub use super::layout::{info, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
+pub use super::layout::{gbuf, info, GBufferTexel, Surface, GBUF_STRIDE, RAY_INFO, RAY_PDF, RAY_STRIDE};
 
 /// HDRP's `SSR_TRACE_EPS`: how far a position is nudged past a cell edge along the ray (2^-11 px).
 pub const TRACE_EPS: f32 = 0.000_488_281_25;
@@ -90,7 +90,7 @@ pub fn load_surface(p: &SsrParams, gbuf: &[f32], x: u32, y: u32) -> Surface {
     let b = ((y * p.width + x) as usize) * GBUF_STRIDE;
     let [z, nx, ny, nz] = crate::buffer::load4(gbuf, b);
     let nw = Vec3::new(nx, ny, nz);
-    let rough = crate::buffer::load(gbuf, b + 4);
+    let rough = crate::buffer::load(gbuf, b + super::layout::gbuf::ROUGHNESS);
     let sx = x as f32 + 0.5;
     let sy = y as f32 + 0.5;
     let mut s = Surface { perceptual_roughness: rough, ..Default::default() };
@@ -401,7 +401,7 @@ pub fn validate_hit(p: &SsrParams, gbuf: &[f32], ox: u32, oy: u32, r: Vec3, h: &
     }
     if p.flags & FLAG_BACKFACE_REJECT != 0 {
         let b = ((h.y * p.width + h.x) as usize) * GBUF_STRIDE;
-        let n = p.view.transform_dir(Vec3::new(load(gbuf, b + 1), load(gbuf, b + 2), load(gbuf, b + 3)));
+        let n = p.view.transform_dir(Vec3::new(load(gbuf, b + super::layout::gbuf::NORMAL), load(gbuf, b + super::layout::gbuf::NORMAL + 1), load(gbuf, b + super::layout::gbuf::NORMAL + 2)));
         if n.dot(r) >= 0.0 {
             return (false, true);
         }
