@@ -314,6 +314,50 @@ fn ctrl_c_keeps_the_samples_so_far() {
     assert_eq!(json_of(&again.with_extension("json"))["digest"], j["digest"], "the interrupted image is not the render of its samples");
 }
 
+/// Ctrl-C during the `--gbuffer` stage ends its reference launches: the render (whole), the
+/// G-buffer and the reference of the samples done are written, the JSON says how many
+/// (`gbuffer.reference_samples`) and that the run was interrupted, exit status 130.
+#[test]
+fn ctrl_c_during_the_gbuffer_keeps_the_reference_so_far() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.exr");
+    let gb = dir.path().join("g.exr");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_host"))
+        .args(["render", "--device", "cpu", "--detail", "4", "--width", "24", "--height", "24", "--spp", "2", "--spp-per-pass", "2"])
+        .args(["--gbuffer", gb.to_str().unwrap(), "--reference-spp", "1000000", "--progress-every", "0", "-o", out.to_str().unwrap()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawning host");
+    let err = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(err).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let mut seen = Vec::new();
+    while seen.iter().filter(|l: &&String| l.starts_with("G-buffer + reference: ")).count() < 2 {
+        seen.push(rx.recv_timeout(std::time::Duration::from_secs(120)).unwrap_or_else(|_| panic!("no G-buffer progress; stderr so far: {seen:?}")));
+    }
+    sigint(&child);
+    let status = child.wait().unwrap();
+    let all = [seen, rx.iter().collect()].concat().join("\n");
+    assert_eq!(status.code(), Some(130), "{all}");
+    let j = json_of(&out.with_extension("json"));
+    assert_eq!(j["interrupted"], true, "{j}");
+    assert_eq!(j["samples_per_pixel"], 2, "the render itself is whole: {j}");
+    let r = j["gbuffer"]["reference_samples"].as_u64().unwrap();
+    assert!((1..1_000_000).contains(&r), "{j}");
+    assert!(all.contains(&format!("the reference holds {r} of 1000000 samples per glossy pixel")), "{all}");
+    assert!(j["warnings"].as_array().unwrap().iter().any(|w| w.as_str().unwrap().contains("--gbuffer: interrupted")), "{j}");
+    for f in [gb.clone(), dir.path().join("g.reference.exr"), out.with_extension("png")] {
+        assert!(f.exists(), "{} not written:\n{all}", f.display());
+    }
+    let cam: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(host::ssr::gbuffer::camera_path(&gb)).unwrap()).unwrap();
+    assert_eq!(cam["reference"]["samples"].as_u64(), Some(r), "the G-buffer's JSON records the samples taken: {cam}");
+}
+
 /// A second Ctrl-C aborts without writing.
 #[test]
 fn a_second_ctrl_c_aborts_without_writing() {

@@ -67,12 +67,19 @@ impl GBufferSums {
 /// The G-buffer and `samples` reference samples per glossy pixel in launches of at most
 /// `per_pass` samples (`samples` = 0: one launch, G-buffer only); `progress(samples done)`
 /// after each launch.
-pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBufferParams, samples: u32, per_pass: u32, mut progress: impl FnMut(u32)) -> Result<(GBufferSums, Timing)> {
+pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBufferParams, samples: u32, per_pass: u32, progress: impl FnMut(u32)) -> Result<(GBufferSums, Timing)> {
+    render_gbuffer_until(backend, inputs, base, samples, per_pass, progress, || false)
+}
+
+/// [`render_gbuffer`], stopping early when `stop()` is true after a launch (the first launch
+/// always runs): the sums then hold the reference samples of the launches done, and
+/// [`GBufferSums::samples`] says how many.
+pub fn render_gbuffer_until(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBufferParams, samples: u32, per_pass: u32, mut progress: impl FnMut(u32), stop: impl Fn() -> bool) -> Result<(GBufferSums, Timing)> {
     if per_pass == 0 {
         bail!("reference samples per pass must be at least 1");
     }
     let mut sums: Option<GBufferSums> = None;
-    let (_, time) = runner::in_launches(samples, per_pass, || false, |done, n| {
+    let (done, time) = runner::in_launches(samples, per_pass, stop, |done, n| {
         let mut p = *base;
         p.render.spp = n;
         p.render.sample_base = base.render.sample_base + done;
@@ -85,7 +92,9 @@ pub fn render_gbuffer(backend: &Backend, inputs: &RenderInputs<'_>, base: &GBuff
         progress(done + n);
         Ok(t)
     })?;
-    Ok((sums.expect("at least one launch"), time))
+    let mut sums = sums.expect("at least one launch");
+    sums.samples = done;
+    Ok((sums, time))
 }
 
 /// What [`to_ssr`] needs besides the kernel output.
@@ -162,6 +171,11 @@ pub trait Progress {
     fn update(&mut self, done: u32);
     /// The stage ended.
     fn finish(&mut self);
+    /// The check, called between launches, that ends the export early (Ctrl-C in the CLI): the
+    /// frame is then exported with the samples done. The default never stops.
+    fn stop_check(&self) -> fn() -> bool {
+        || false
+    }
 }
 
 /// [`Progress`] that shows nothing.
@@ -224,7 +238,8 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
         _ => {
             let p = RenderParams { camera: spec.previous, ..spec.params };
             progress.start("previous frame", spec.spp);
-            let r = render::render(backend, inputs, &p, spec.spp, spec.spp_per_pass, |d| progress.update(d));
+            let stop = progress.stop_check();
+            let r = render::render_until(backend, inputs, &p, spec.spp, spec.spp_per_pass, |d| progress.update(d), stop);
             progress.finish();
             r?.0.color
         }
@@ -236,21 +251,25 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
     // The reference in two halves of disjoint samples: their difference measures its noise.
     let half = spec.reference_spp / 2;
     let first = if half == 0 { spec.reference_spp } else { half };
-    let r = render_gbuffer(backend, inputs, &gp, first, spec.spp_per_pass, |d| progress.update(d)).and_then(|(a, ta)| {
-        if half == 0 {
+    let stop = progress.stop_check();
+    let r = render_gbuffer_until(backend, inputs, &gp, first, spec.spp_per_pass, |d| progress.update(d), stop).and_then(|(a, ta)| {
+        // Stopped in the first half (or no second one): no noise estimate.
+        if half == 0 || a.samples < first || stop() {
             return Ok((a, ta, (None, None)));
         }
         let second = GBufferParams { render: RenderParams { sample_base: spec.params.sample_base + half, ..gp.render }, ..gp };
-        let (b, tb) = render_gbuffer(backend, inputs, &second, spec.reference_spp - half, spec.spp_per_pass, |d| progress.update(half + d))?;
-        let noise = (noise_floor(&a, &b), pixel_noise_var(&a, &b));
+        let (b, tb) = render_gbuffer_until(backend, inputs, &second, spec.reference_spp - half, spec.spp_per_pass, |d| progress.update(half + d), stop)?;
+        // The noise estimate compares the two halves: only when the second one is whole.
+        let noise = if b.samples == spec.reference_spp - half { (noise_floor(&a, &b), pixel_noise_var(&a, &b)) } else { (None, None) };
         let mut sum = a;
         sum.add_sums(&b.pixels);
-        sum.samples = spec.reference_spp;
+        sum.samples += b.samples;
         Ok((sum, ta + tb, noise))
     });
     progress.finish();
     let (sums, gbuffer_time, (noise, noise_var)) = r?;
-    let reference = reference.map(|r| ReferenceFile { noise_rel: noise, ..r });
+    // The samples actually taken (fewer than asked for when the export was stopped).
+    let reference = reference.map(|r| ReferenceFile { noise_rel: noise, samples: sums.samples, ..r });
     let gbuffer_wall = t1.elapsed().as_secs_f64();
     let rays: f64 = sums.pixels.iter().map(|p| p.rays as f64).sum();
     let (gbuffer, mut reference) = to_ssr(&sums, Frames { ssr_camera: ssr_cam, ssr_previous: ssr_prev, color, fallback: spec.fallback }, reference)?;

@@ -533,6 +533,13 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         Some(path) => Some(export_gbuffer(&cmd, path, &backend, &prep, &inputs, &params, &img, &mut set)?),
         None => None,
     };
+    // A Ctrl-C during the --gbuffer stage ends its launches early: the G-buffer and reference
+    // are written with the samples done (its JSON says how many).
+    let gbuffer_stopped = cmd.gbuffer.is_some() && !stopped && interrupted();
+    if gbuffer_stopped {
+        warnings.push("--gbuffer: interrupted; the reference holds the samples done (gbuffer.reference_samples)".into());
+    }
+    let stopped = stopped || gbuffer_stopped;
     let (png, json) = (outputs.png.clone(), outputs.json.clone());
     set.stage(&[&outputs.exr], |t| super::write_exr(t, &img))?;
     set.stage(&[&png], |t| crate::io::write_png(t, &super::preview(img.width, img.height, &img.color, cmd.exposure, cmd.tonemap)))?;
@@ -561,7 +568,10 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         bail!("{nonfinite} pixels are not finite (the files are written for inspection; the JSON's nonfinite_pixels counts them)");
     }
     if stopped {
-        eprintln!("interrupted: the files hold {} of {} samples per pixel", img.spp, cmd.spp);
+        match gbuffer.as_ref().and_then(|g| g["reference_samples"].as_u64()).filter(|_| gbuffer_stopped) {
+            Some(r) => eprintln!("interrupted: the render is whole; the reference holds {r} of {} samples per glossy pixel", cmd.reference_spp),
+            None => eprintln!("interrupted: the files hold {} of {} samples per pixel", img.spp, cmd.spp),
+        }
         std::process::exit(130);
     }
     Ok(())
@@ -611,6 +621,10 @@ pub fn progress_line(what: &str, done: u32, total: u32, seconds: f64, pixels: f6
 }
 
 impl super::gbuffer::Progress for Bar {
+    fn stop_check(&self) -> fn() -> bool {
+        interrupted
+    }
+
     fn start(&mut self, what: &str, total: u32) {
         self.what = what.to_string();
         self.t0 = Instant::now();
@@ -685,8 +699,8 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
     eprintln!(
         "G-buffer{}: {:.3} s ({}; wall {:.3} s, {:.3} M rays/s), {} glossy pixels{}; writes {} with the render's files",
         match e.gbuffer.reference.as_ref().and_then(|r| r.noise_rel) {
-            Some(n) => format!(" + reference ({} samples per glossy pixel, relative noise {n:.4})", cmd.reference_spp),
-            None if cmd.reference_spp > 0 => format!(" + reference ({} samples per glossy pixel)", cmd.reference_spp),
+            Some(n) => format!(" + reference ({} samples per glossy pixel, relative noise {n:.4})", e.gbuffer.reference.as_ref().map_or(0, |r| r.samples)),
+            None if cmd.reference_spp > 0 => format!(" + reference ({} of {} samples per glossy pixel)", e.gbuffer.reference.as_ref().map_or(0, |r| r.samples), cmd.reference_spp),
             None => String::new(),
         },
         e.gbuffer_time.seconds,
@@ -698,7 +712,8 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
         files.join(", ") + " (renamed into place with the render's files)"
     );
     Ok(serde_json::json!({
-        "files": files, "reference_spp": cmd.reference_spp, "max_roughness": cmd.max_roughness,
+        "files": files, "reference_spp": cmd.reference_spp,
+        "reference_samples": e.gbuffer.reference.as_ref().map(|r| r.samples).unwrap_or(0), "max_roughness": cmd.max_roughness,
         "fallback": spec.fallback, "near": spec.near, "glossy_pixels": glossy, "seconds": e.gbuffer_time.seconds, "wall_seconds": e.gbuffer_wall,
         "rays": e.rays, "previous_frame_seconds": e.previous_seconds,
         "reference_noise_rel": e.gbuffer.reference.as_ref().and_then(|r| r.noise_rel),
