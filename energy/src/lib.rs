@@ -336,8 +336,9 @@ fn precompute_in_launches_of(backend: &Backend, spec: &TableSpec, progress: Prog
     let (mut sum_e, mut sum_ep) = (vec![0.0f64; cells], vec![0.0f64; cells]);
     let table = |s: kern::SampleChunks| kern::AlbedoTableArgs { n_mu: spec.n_mu, n_r: spec.n_r, s, seq: spec.seq.id(), seed: spec.seed, ..Default::default() };
     let t_table = chunked_sums(backend, &kern::ALBEDO_TABLE, kern::TABLE_STRIDE, table, cells, spec.samples, spec.chunk, invocations, &report, |out, c| {
-        sum_e[c] += f64::from(out[kern::TABLE_STRIDE * c]);
-        sum_ep[c] += f64::from(out[kern::TABLE_STRIDE * c + 1]);
+        let s = core_energy::TableSums::load(out, kern::TABLE_STRIDE * c);
+        sum_e[c] += f64::from(s.e);
+        sum_ep[c] += f64::from(s.e_prime);
     })
     .context("E table")?;
     stage.set("E_avg");
@@ -484,6 +485,13 @@ pub struct FurnaceImage {
     pub time: Timing,
 }
 
+impl FurnaceImage {
+    /// Pixel `i`'s record (row-major).
+    pub fn sample(&self, i: u32) -> core_energy::FurnaceSample {
+        core_energy::FurnaceSample::load(&self.data, i as usize * kern::FURNACE_STRIDE)
+    }
+}
+
 /// Render `spheres` spheres of `cell` x `cell` pixels, roughness 0..1 left to right.
 pub fn furnace_spheres(backend: &Backend, lut: &[f32], cfg: &FurnaceConfig, spheres: u32, cell: u32) -> Result<FurnaceImage> {
     cfg.validate()?;
@@ -502,7 +510,7 @@ pub fn furnace_grid(backend: &Backend, lut: &[f32], cfg: &FurnaceConfig, n_mu: u
         bail!("grid must be 1..=4096 per side, got {n_mu} x {n_r}");
     }
     let (data, _) = cfg.run(backend, lut, kern::LAYOUT_GRID, n_mu, n_r, n_r)?;
-    Ok(data.chunks_exact(kern::FURNACE_STRIDE).map(|c| c[0]).collect())
+    Ok(data.chunks_exact(kern::FURNACE_STRIDE).map(|c| core_energy::FurnaceSample::load(c, 0).albedo).collect())
 }
 
 /// Per-sphere statistics of a furnace image: roughness, mean albedo over the sphere's pixels
@@ -514,13 +522,13 @@ pub fn sphere_stats(img: &FurnaceImage, spheres: u32) -> Vec<(f32, f64, f32, f32
             let (mut sum, mut n, mut lo, mut hi, mut r) = (0.0f64, 0usize, f32::INFINITY, f32::NEG_INFINITY, 0.0);
             for y in 0..img.height {
                 for x in k * cell..(k + 1) * cell {
-                    let p = &img.data[((y * img.width + x) as usize) * kern::FURNACE_STRIDE..][..3];
-                    r = p[2];
-                    if p[1] > 0.0 {
-                        sum += f64::from(p[0]);
+                    let p = img.sample(y * img.width + x);
+                    r = p.roughness;
+                    if p.mu > 0.0 {
+                        sum += f64::from(p.albedo);
                         n += 1;
-                        lo = lo.min(p[0]);
-                        hi = hi.max(p[0]);
+                        lo = lo.min(p.albedo);
+                        hi = hi.max(p.albedo);
                     }
                 }
             }

@@ -5,7 +5,6 @@ pub use ::energy::*;
 
 use crate::{Backend, DeviceChoice};
 use anyhow::{bail, Result};
-use shader_kernels::energy as kern;
 use shader_core::energy as core_energy;
 use std::path::{Path, PathBuf};
 
@@ -198,9 +197,13 @@ fn run_precompute(a: &PrecomputeArgs) -> Result<()> {
     for (png, v, what) in [(&png_e, &t.e, "E (directional albedo)"), (&png_ep, &t.e_prime, "E' (Schlick split)")] {
         use crate::ssr::legend;
         let l = legend::Legend {
-            title: format!("{what}; x: mu 0..1, y: roughness 0 (top)..1 (bottom)"),
+            title: format!("{what}; x: mu (cell centres), y: roughness (cell centres)"),
             bar: Some((0.0, 1.0, legend::ticks(0.0, 1.0, 5))),
             swatches: vec![(legend::NON_FINITE, "not finite".to_string())],
+            axes: Some(legend::Axes {
+                x: legend::Axes::cells(w, 5, |i| f64::from(core_energy::table_mu(i as u32, t.n_mu))),
+                y: legend::Axes::cells(h, 5, |j| f64::from(core_energy::cell_center(j as u32, t.n_r))),
+            }),
         };
         let px: Vec<[u8; 3]> = v.iter().map(|&x| legend::ramp(x, 0.0, 1.0)).collect();
         legend::write_png(png, w, h, &px, &l)?;
@@ -233,9 +236,10 @@ fn run_furnace(a: &FurnaceArgs) -> Result<()> {
         let cfg = FurnaceConfig { mode, metallic, base: 1.0, samples: a.samples, seq: a.sequence, seed: a.seed, min_roughness: a.min_roughness };
         let img = furnace_spheres(&backend, &lut, &cfg, a.spheres, a.size)?;
         eprintln!("metallic {metallic} {:<12} {}x{} x {} spp: {:.3} ms ({})", mode.label(), w, h, a.samples, img.time.seconds * 1e3, img.time.source);
-        for c in img.data.chunks_exact(kern::FURNACE_STRIDE) {
-            albedo.push(c[0]);
-            mu.push(c[1]);
+        for i in 0..img.width * img.height {
+            let s = img.sample(i);
+            albedo.push(s.albedo);
+            mu.push(s.mu);
         }
         let stats = sphere_stats(&img, a.spheres);
         let mut cells = Vec::new();

@@ -39,12 +39,18 @@ impl GridSpec {
     }
 
     /// The rows `[x, y, z, alpha_x, alpha_y]`, one per pixel, top row first.
+    /// alpha_x of row `j` (`alpha_max` at the top row, `alpha_min` at the bottom one,
+    /// log-spaced).
+    pub fn alpha_at_row(&self, j: usize) -> f64 {
+        let (l0, l1) = (f64::from(self.alpha_min).ln(), f64::from(self.alpha_max).ln());
+        let t = 1.0 - j as f64 / (self.height - 1) as f64;
+        (l0 + (l1 - l0) * t).exp()
+    }
+
     pub fn rows(&self) -> Vec<f32> {
         let mut v = Vec::with_capacity(self.width * self.height * 5);
-        let (l0, l1) = (f64::from(self.alpha_min).ln(), f64::from(self.alpha_max).ln());
         for j in 0..self.height {
-            let t = 1.0 - j as f64 / (self.height - 1) as f64;
-            let ax = (l0 + (l1 - l0) * t).exp() as f32;
+            let ax = self.alpha_at_row(j) as f32;
             for i in 0..self.width {
                 let theta = (90.0 * i as f64 / self.width as f64).to_radians();
                 v.extend_from_slice(&[theta.sin() as f32, 0.0, theta.cos() as f32, ax, ax * self.aspect]);
@@ -101,9 +107,13 @@ pub fn write(out: &Path, spec: &GridSpec, results: &[GridResult]) -> Result<Vec<
             _ => "G1",
         };
         let legend = crate::ssr::legend::Legend {
-            title: format!("{what}; x: theta 0..90 deg, y: alpha_x {} (top)..{} (bottom), log", spec.alpha_max, spec.alpha_min),
+            title: format!("{what}; x: theta (deg), y: alpha_x (log scale)"),
             bar: Some((lo, hi, crate::ssr::legend::ticks(lo, hi, 6))),
             swatches: vec![([255, 0, 255], "not finite".to_string())],
+            axes: Some(crate::ssr::legend::Axes {
+                x: crate::ssr::legend::Axes::cells(spec.width, 7, |i| 90.0 * i as f64 / spec.width as f64),
+                y: crate::ssr::legend::Axes::cells(spec.height, 5, |j| spec.alpha_at_row(j)),
+            }),
         };
         let pixels: Vec<[u8; 3]> = data.iter().map(|&v| crate::ssr::legend::ramp(v, lo, hi)).collect();
         crate::ssr::legend::write_png(&png, spec.width, spec.height, &pixels, &legend)?;

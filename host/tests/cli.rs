@@ -88,17 +88,23 @@ fn grid_writes_an_exr_a_user_can_open_and_pngs() {
     let g1 = img.channel("ggx_g1").unwrap();
     assert!(g1.iter().all(|v| (0.0..=1.0).contains(v)));
     for name in ["ggx_d", "ggx_lambda", "ggx_g1"] {
-        // the map (enlarged to the legend's width) above a legend strip with the colour bar
+        // the map (enlarged to the legend's width) with tick marks on its axes, above a legend
+        // strip with the colour bar
         let png = image::open(dir.path().join(format!("sub/ggx.{name}.png"))).unwrap().to_rgb8();
-        let k = host::ssr::legend::scale(32);
-        let strip = host::ssr::legend::strip_height(32 * k);
-        assert_eq!(png.dimensions(), ((32 * k) as u32, (16 * k + strip) as u32), "{name}");
-        let mut legend: Vec<[u8; 3]> = (16 * k as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
+        let l = host::ssr::legend::layout(32, 16, true);
+        assert_eq!(png.dimensions(), (l.width as u32, l.height as u32), "{name}");
+        assert!(l.left > 0, "room for the y labels");
+        let mut legend: Vec<[u8; 3]> = (l.image_h as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
         legend.sort();
         legend.dedup();
         for c in [host::io::colormap(0.0), host::io::colormap(1.0), [0, 0, 0]] {
             assert!(legend.contains(&c), "{name}: the legend lacks {c:?}");
         }
+        // tick marks: dark pixels in the left margin (the y labels) and just below the image
+        let dark = |x: u32, y: u32| png.get_pixel(x, y).0.iter().all(|&c| c < 100);
+        assert!((0..l.image_h as u32).any(|y| (0..l.left as u32 - 2).any(|x| dark(x, y))), "{name}: no y tick labels");
+        let below = l.image_h as u32 + 3;
+        assert!((l.left as u32..(l.left + l.image_w) as u32).filter(|&x| dark(x, below)).count() >= 7, "{name}: fewer than 7 x ticks");
     }
     let o = host(&["grid", "--alpha-min", "0"], &[]);
     assert!(!o.status.success());
@@ -609,9 +615,9 @@ fn energy_table_pngs_have_a_legend() {
     assert!(o.status.success(), "{}", text(&o));
     for name in ["t.E.png", "t.E_prime.png"] {
         let png = image::open(dir.path().join(name)).unwrap().to_rgb8();
-        let k = host::ssr::legend::scale(8);
-        assert_eq!(png.dimensions(), ((8 * k) as u32, (8 * k + host::ssr::legend::strip_height(8 * k)) as u32), "{name}");
-        let strip: Vec<[u8; 3]> = ((8 * k) as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
+        let l = host::ssr::legend::layout(8, 8, true);
+        assert_eq!(png.dimensions(), (l.width as u32, l.height as u32), "{name}");
+        let strip: Vec<[u8; 3]> = (l.image_h as u32..png.height()).flat_map(|y| (0..png.width()).map(move |x| (x, y))).map(|(x, y)| png.get_pixel(x, y).0).collect();
         for c in [host::io::colormap(0.0), host::io::colormap(1.0), [0, 0, 0]] {
             assert!(strip.contains(&c), "{name}: the legend lacks {c:?}");
         }

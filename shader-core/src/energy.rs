@@ -215,6 +215,63 @@ impl KahanSum {
     }
 }
 
+/// One E / E' table item's sums as the table kernel writes them ([`TableSums::WORDS`] words).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TableSums {
+    /// Sum of the E estimator over the item's samples.
+    pub e: f32,
+    /// Sum of the E' estimator.
+    pub e_prime: f32,
+}
+
+impl TableSums {
+    /// f32 words of the record: E, E'.
+    pub const WORDS: usize = 2;
+
+    /// Write the record at `out[o..o + WORDS]`.
+    #[inline]
+    pub fn store(&self, out: &mut [f32], o: usize) {
+        crate::buffer::store(out, o, self.e);
+        crate::buffer::store(out, o + 1, self.e_prime);
+    }
+
+    /// The record at `buf[o..o + WORDS]`.
+    #[inline]
+    pub fn load(buf: &[f32], o: usize) -> TableSums {
+        TableSums { e: load(buf, o), e_prime: load(buf, o + 1) }
+    }
+}
+
+/// One white-furnace pixel as the furnace kernel writes it ([`FurnaceSample::WORDS`] words).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FurnaceSample {
+    /// Directional albedo estimate (1 outside the spheres: the environment).
+    pub albedo: f32,
+    /// cos(theta) of the view direction at the pixel (0 outside the spheres).
+    pub mu: f32,
+    /// The sphere's roughness.
+    pub roughness: f32,
+}
+
+impl FurnaceSample {
+    /// f32 words of the record: albedo, mu, roughness.
+    pub const WORDS: usize = 3;
+
+    /// Write the record at `out[o..o + WORDS]`.
+    #[inline]
+    pub fn store(&self, out: &mut [f32], o: usize) {
+        crate::buffer::store(out, o, self.albedo);
+        crate::buffer::store(out, o + 1, self.mu);
+        crate::buffer::store(out, o + 2, self.roughness);
+    }
+
+    /// The record at `buf[o..o + WORDS]`.
+    #[inline]
+    pub fn load(buf: &[f32], o: usize) -> FurnaceSample {
+        FurnaceSample { albedo: load(buf, o), mu: load(buf, o + 1), roughness: load(buf, o + 2) }
+    }
+}
+
 /// Sums of the (E, E') samples [start, start + count) of cell (i, j) of an n_mu x n_r table, in
 /// sample order (Monte-Carlo estimate of Kulla & Conty 2017's E(mu), Karis 2013's split sum).
 #[inline]

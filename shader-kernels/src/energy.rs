@@ -11,7 +11,7 @@
 //! are slow on lavapipe).
 
 use shader_core::ieee;
-use shader_core::energy::{self, FurnaceMaterial};
+use shader_core::energy::{self, FurnaceMaterial, FurnaceSample, TableSums};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
@@ -19,10 +19,11 @@ use spirv_std::spirv;
 pub const LAYOUT_SPHERES: u32 = 0;
 /// Furnace layout: the table grid, one invocation per (mu_i, r_j) cell center (n_mu x n_r).
 pub const LAYOUT_GRID: u32 = 1;
-/// Outputs per furnace invocation: albedo, mu (0 outside the spheres), roughness.
-pub const FURNACE_STRIDE: usize = 3;
-/// Outputs per E / E' table cell: the sums of E and E'.
-pub const TABLE_STRIDE: usize = 2;
+/// Outputs per furnace invocation (`shader_core::energy::FurnaceSample`): albedo, mu (0 outside
+/// the spheres), roughness.
+pub const FURNACE_STRIDE: usize = FurnaceSample::WORDS;
+/// Outputs per E / E' table cell (`shader_core::energy::TableSums`): the sums of E and E'.
+pub const TABLE_STRIDE: usize = TableSums::WORDS;
 
 /// Which samples one invocation of the table kernels sums: a launch covers chunks of `chunk`
 /// samples from sample `start` on, cut at sample `end`, for every cell; item `c` (counted over the
@@ -116,9 +117,7 @@ pub struct FurnaceArgs {
 pub fn albedo_table_cell(i: u32, a: &AlbedoTableArgs, out: &mut [f32]) {
     let (cell, start, count) = a.s.item(a.first + i, a.n_mu * a.n_r);
     let (e, ep) = energy::albedo_cell_sums(cell % a.n_mu, cell / a.n_mu, a.n_mu, a.n_r, start, count, a.seq, a.seed);
-    let o = (i as usize) * TABLE_STRIDE;
-    out[o] = e;
-    out[o + 1] = ep;
+    TableSums { e, e_prime: ep }.store(out, (i as usize) * TABLE_STRIDE);
 }
 
 /// E_avg, invocation `i`: the f32 sum of item `first + i`'s samples ([`SampleChunks::item`] over
@@ -134,10 +133,7 @@ pub fn albedo_avg_cell(i: u32, a: &AlbedoAvgArgs, out: &mut [f32]) {
 #[inline]
 pub fn furnace_pixel(i: u32, a: &FurnaceArgs, lut: &[f32], out: &mut [f32]) {
     let (albedo, mu, roughness) = furnace_sample(a.first + i, a, lut);
-    let o = (i as usize) * FURNACE_STRIDE;
-    out[o] = albedo;
-    out[o + 1] = mu;
-    out[o + 2] = roughness;
+    FurnaceSample { albedo, mu, roughness }.store(out, (i as usize) * FURNACE_STRIDE);
 }
 
 /// (albedo, mu, roughness) of furnace pixel (or grid cell) `p`.

@@ -379,6 +379,7 @@ pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: O
         title: "hit: fraction of the pixel's rays that hit on screen".into(),
         bar: Some((0.0, 1.0, legend::ticks(0.0, 1.0, 4))),
         swatches: vec![(legend::NO_VALUE, "no ray".into())],
+        axes: None,
     };
     legend::write_png(&p("hit"), w, h, &hit_px, &hit_legend)?;
     files.push(p("hit"));
@@ -392,6 +393,7 @@ pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: O
         title: format!("steps: tracer iterations per ray (scale 0 .. the iteration limit {steps_limit})"),
         bar: Some((0.0, limit, legend::ticks(0.0, limit, 4))),
         swatches: vec![(legend::NO_VALUE, "no ray".into())],
+        axes: None,
     };
     legend::write_png(&p("steps"), w, h, &steps_px, &steps_legend)?;
     files.push(p("steps"));
@@ -408,6 +410,7 @@ pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: O
                 (class_colour(TILE_LINEAR), "linear".into()),
                 (class_colour(TILE_MIXED), "mixed".into()),
             ],
+            axes: None,
         };
         legend::write_png(&p("tiles"), w, h, &img, &tiles_legend)?;
         files.push(p("tiles"));
@@ -430,6 +433,7 @@ pub fn write_outputs(out: &Path, input: &Input, result: &SsrResult, reference: O
             title: "error: mean |composite - on-screen reference| over RGB (linear)".into(),
             bar: Some((0.0, ERROR_SCALE, legend::ticks(0.0, ERROR_SCALE, 5))),
             swatches: vec![(legend::NO_VALUE, "not glossy".into())],
+            axes: None,
         };
         legend::write_png(&p("error"), w, h, &err, &err_legend)?;
         files.push(p("error"));
