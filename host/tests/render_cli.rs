@@ -248,12 +248,13 @@ fn threads_option_sets_the_cpu_backends_threads() {
 /// Spawn `host render` (builtin scene, CPU, many spp) with stderr piped; returns the child and
 /// a channel of its stderr lines.
 fn spawn_render(out: &Path, size: &str, per_pass: &str) -> (std::process::Child, std::sync::mpsc::Receiver<String>) {
+    spawn_host(&["render", "--device", "cpu", "--detail", "4", "--width", size, "--height", size, "--spp", "1000000", "--spp-per-pass", per_pass, "--progress-every", "0", "-o", out.to_str().unwrap()])
+}
+
+/// Spawn `host args` with stderr piped; returns the child and a channel of its stderr lines.
+fn spawn_host(args: &[&str]) -> (std::process::Child, std::sync::mpsc::Receiver<String>) {
     use std::io::BufRead;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_host"))
-        .args(["render", "--device", "cpu", "--detail", "4", "--width", size, "--height", size, "--spp", "1000000", "--spp-per-pass", per_pass, "--progress-every", "0", "-o", out.to_str().unwrap()])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawning host");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_host")).args(args).stderr(std::process::Stdio::piped()).spawn().expect("spawning host");
     let err = child.stderr.take().unwrap();
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
@@ -319,23 +320,13 @@ fn ctrl_c_keeps_the_samples_so_far() {
 /// (`gbuffer.reference_samples`) and that the run was interrupted, exit status 130.
 #[test]
 fn ctrl_c_during_the_gbuffer_keeps_the_reference_so_far() {
-    use std::io::BufRead;
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.exr");
     let gb = dir.path().join("g.exr");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_host"))
-        .args(["render", "--device", "cpu", "--detail", "4", "--width", "24", "--height", "24", "--spp", "2", "--spp-per-pass", "2"])
-        .args(["--gbuffer", gb.to_str().unwrap(), "--reference-spp", "1000000", "--progress-every", "0", "-o", out.to_str().unwrap()])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawning host");
-    let err = child.stderr.take().unwrap();
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in std::io::BufReader::new(err).lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
+    let (mut child, rx) = spawn_host(&[
+        "render", "--device", "cpu", "--detail", "4", "--width", "24", "--height", "24", "--spp", "2", "--spp-per-pass", "2", "--gbuffer",
+        gb.to_str().unwrap(), "--reference-spp", "1000000", "--progress-every", "0", "-o", out.to_str().unwrap(),
+    ]);
     let mut seen = Vec::new();
     while seen.iter().filter(|l: &&String| l.starts_with("G-buffer + reference: ")).count() < 2 {
         seen.push(rx.recv_timeout(std::time::Duration::from_secs(120)).unwrap_or_else(|_| panic!("no G-buffer progress; stderr so far: {seen:?}")));
