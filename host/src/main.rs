@@ -136,7 +136,27 @@ enum Cmd {
     Energy(host::energy::EnergyCli),
 }
 
+/// The CLI's logger: the runner's info and warn messages (the `log` facade; which backend
+/// `--device auto` picked and why, driver warnings) on stderr, as written. Other crates' logs
+/// (wgpu's) stay off.
+struct StderrLog;
+
+impl log::Log for StderrLog {
+    fn enabled(&self, m: &log::Metadata) -> bool {
+        m.level() <= log::Level::Info && m.target().starts_with("runner")
+    }
+    fn log(&self, r: &log::Record) {
+        if self.enabled(r.metadata()) {
+            eprintln!("{}", r.args());
+        }
+    }
+    fn flush(&self) {}
+}
+
 fn main() {
+    if log::set_logger(&StderrLog).is_ok() {
+        log::set_max_level(log::LevelFilter::Info);
+    }
     let matches = Cli::command().get_matches();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     // Whether an option of `host ssr` was given on the command line (not a default).

@@ -45,7 +45,8 @@ impl Backend {
         Ok(Backend::Gpu(Box::new(GpuContext::with_div_sqrt_choice_on(Some(name))?)))
     }
 
-    /// Create the backend the user chose (see [`DeviceChoice`]). The GPU backend refuses SPIR-V
+    /// Create the backend the user chose (see [`DeviceChoice`]); why `auto` chose what it
+    /// did goes to the `log` facade at info level (the `host` CLI prints it). The GPU backend refuses SPIR-V
     /// that is stale relative to the shader sources this binary was built from, and loads the
     /// build of the main module `HOST_DIV_SQRT` chooses ([`crate::shaders::DivSqrtChoice`]).
     pub fn select(choice: DeviceChoice) -> Result<Backend> {
@@ -55,7 +56,7 @@ impl Backend {
             DeviceChoice::Gpu => gpu(),
             DeviceChoice::Auto => {
                 if let Ok(name) = std::env::var("HOST_ADAPTER") {
-                    eprintln!("--device auto: GPU backend, because HOST_ADAPTER={name:?} names an adapter");
+                    log::info!("--device auto: GPU backend, because HOST_ADAPTER={name:?} names an adapter");
                     return gpu();
                 }
                 crate::gpu::ensure_xdg_runtime_dir();
@@ -66,7 +67,7 @@ impl Backend {
                     matches!(t, wgpu::DeviceType::DiscreteGpu | wgpu::DeviceType::IntegratedGpu | wgpu::DeviceType::VirtualGpu)
                 };
                 if let Some(a) = adapters.iter().map(|a| a.get_info()).find(|i| hardware(i.device_type)) {
-                    eprintln!("--device auto: GPU backend, hardware adapter {} ({:?})", a.name, a.device_type);
+                    log::info!("--device auto: GPU backend, hardware adapter {} ({:?})", a.name, a.device_type);
                     return gpu();
                 }
                 let why = if adapters.is_empty() {
@@ -75,7 +76,7 @@ impl Backend {
                     let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
                     format!("no hardware GPU, only the software adapter(s) {} (it runs on the same CPU cores and is not faster overall; --device gpu uses it)", names.join(", "))
                 };
-                eprintln!("--device auto: CPU backend ({} threads): {why}", crate::cpu::threads());
+                log::info!("--device auto: CPU backend ({} threads): {why}", crate::cpu::threads());
                 Ok(Backend::Cpu)
             }
         }
@@ -92,7 +93,7 @@ impl Backend {
             DeviceChoice::Auto => match Backend::select(DeviceChoice::Gpu) {
                 Ok(b) => Ok(Some(b)),
                 Err(e) if matches!(e.downcast_ref::<GpuError>(), Some(GpuError::NoAdapter)) => {
-                    eprintln!("notice: no Vulkan adapter: timing the CPU backend only");
+                    log::info!("notice: no Vulkan adapter: timing the CPU backend only");
                     Ok(None)
                 }
                 Err(e) => Err(e),
@@ -105,10 +106,10 @@ impl Backend {
     pub fn bench_pair(choice: DeviceChoice) -> Result<(Backend, Option<Backend>)> {
         let gpu = Backend::gpu_column(choice)?;
         let cpu = Backend::Cpu;
-        eprintln!("{}", cpu.describe());
+        log::info!("{}", cpu.describe());
         match &gpu {
-            Some(g) => eprintln!("{}", g.describe()),
-            None => eprintln!("no GPU backend: GPU columns left empty"),
+            Some(g) => log::info!("{}", g.describe()),
+            None => log::info!("no GPU backend: GPU columns left empty"),
         }
         Ok((cpu, gpu))
     }

@@ -161,7 +161,7 @@ impl GpuContext {
                     g.denorm_policy = p;
                     p.apply_to_cpu();
                 }
-                Err(first) => eprintln!("warning: {}: fp32 denormals neither all kept nor all flushed on the probe rows: {first}", g.info.name),
+                Err(first) => log::warn!("warning: {}: fp32 denormals neither all kept nor all flushed on the probe rows: {first}", g.info.name),
             }
         }
         Ok(g)
@@ -207,7 +207,7 @@ impl GpuContext {
                             p.rows,
                             p.first.unwrap_or_default()
                         );
-                        eprintln!("warning: {why}; using the exact build");
+                        log::warn!("warning: {why}; using the exact build");
                         exact(&mut g, why)?;
                     }
                 }

@@ -3,7 +3,8 @@
 //! on all cores (rayon: [`cpu`]); [`Backend`] picks one (`--device auto|cpu|gpu`).
 //!
 //! No CLI, plotting or image crates: another program can depend on this crate alone to dispatch
-//! a kernel. With the `clap` feature, [`DeviceChoice`] is also a command-line value.
+//! a kernel. What the runner tells a user (the backend `--device auto` picked and why, a driver
+//! whose division is not correctly rounded) goes to the `log` facade: info and warn levels. With the `clap` feature, [`DeviceChoice`] is also a command-line value.
 //!
 //! ```no_run
 //! use runner::{Backend, DeviceChoice};
