@@ -839,6 +839,10 @@ fn spec_bounds_are_refused_naming_the_json_path() {
         ("yfov", Box::new(camera(json!({"type": "perspective", "perspective": {"yfov": 4.0, "znear": 0.1}}))), "cameras[0].perspective.yfov"),
         ("znear", Box::new(camera(json!({"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.0}}))), "cameras[0].perspective.znear"),
         ("xmag", Box::new(camera(json!({"type": "orthographic", "orthographic": {"xmag": 0.0, "ymag": 1.0, "znear": 0.0, "zfar": 10.0}}))), "cameras[0].orthographic.xmag"),
+        ("stride", Box::new(|v: &mut Value| v["bufferViews"][0]["byteStride"] = json!(6)), "bufferViews[0].byteStride"),
+        ("viewlen", Box::new(|v: &mut Value| v["bufferViews"][0]["byteLength"] = json!(1_000_000)), "bufferViews[0].byteLength"),
+        ("accoff", Box::new(|v: &mut Value| v["accessors"][0]["byteOffset"] = json!(2)), "accessors[0].byteOffset"),
+        ("acccount", Box::new(|v: &mut Value| v["accessors"][0]["count"] = json!(1_000_000)), "accessors[0].count"),
         ("quat", Box::new(|v: &mut Value| v["nodes"][0]["rotation"] = json!([0.0, 0.0, 0.0, 2.0])), "nodes[0].rotation"),
         ("both", Box::new(|v: &mut Value| {
             v["nodes"][0]["matrix"] = json!([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);

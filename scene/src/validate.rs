@@ -11,6 +11,9 @@
 //!   `TEXCOORD_n` VEC2, indices unsigned-integer SCALAR: the `gltf` crate's readers panic on
 //!   others); every accessor's `count` >= 1; a sparse accessor's `count` within its accessor's
 //!   and its indices unsigned integers;
+//! - buffer views: `byteLength` >= 1, `byteStride` a multiple of 4, the view inside its buffer
+//!   (`byteOffset` + `byteLength` <= the buffer's `byteLength`); accessors: `byteOffset` a
+//!   multiple of the component size, and the last element inside the buffer view;
 //! - materials: `baseColorFactor`, `metallicFactor`, `roughnessFactor`, `emissiveFactor`,
 //!   `occlusionTexture.strength`, `transmissionFactor` in [0, 1]; `alphaCutoff` >= 0;
 //!   `normalTexture.scale` finite; `emissiveStrength` finite and >= 0; `ior` finite and >= 1;
@@ -81,6 +84,7 @@ pub fn check(root: &json::Root) -> Faults {
     let mut f = Faults::default();
     asset(root, &mut f);
     positions_in_range(root, &mut f);
+    buffer_layout(root, &mut f);
     materials(root, &mut f);
     lights(root, &mut f);
     cameras(root, &mut f);
@@ -162,6 +166,52 @@ fn positions_in_range(root: &json::Root, f: &mut Faults) {
                     f.add(format!("{at}.indices.componentType"), format!("{:?}: must be an unsigned integer type", c.0));
                 }
             }
+        }
+    }
+}
+
+/// Buffer views inside their buffers, accessors inside their buffer views (glTF 2.0 sections
+/// 3.6.2.4 "Data Alignment" and 3.6.2.1 "Overview": offsets aligned to the component size,
+/// strides multiples of 4, every element within the view).
+fn buffer_layout(root: &json::Root, f: &mut Faults) {
+    use json::validation::Checked;
+    for (i, v) in root.buffer_views.iter().enumerate() {
+        let at = format!("bufferViews[{i}]");
+        if v.byte_length.0 == 0 {
+            f.add(format!("{at}.byteLength"), "0: must be at least 1");
+        }
+        if let Some(s) = v.byte_stride {
+            if s.0 % 4 != 0 {
+                f.add(format!("{at}.byteStride"), format!("{}: must be a multiple of 4", s.0));
+            }
+        }
+        let offset = v.byte_offset.map_or(0, |o| o.0);
+        if let Some(b) = root.buffers.get(v.buffer.value()) {
+            if offset.saturating_add(v.byte_length.0) > b.byte_length.0 {
+                f.add(
+                    format!("{at}.byteLength"),
+                    format!("byteOffset {offset} + byteLength {} runs past the end of buffer {} ({} bytes)", v.byte_length.0, v.buffer.value(), b.byte_length.0),
+                );
+            }
+        }
+    }
+    for (i, a) in root.accessors.iter().enumerate() {
+        let (Checked::Valid(t), Checked::Valid(c)) = (&a.type_, &a.component_type) else { continue };
+        let at = format!("accessors[{i}]");
+        let size = c.0.size() as u64;
+        let offset = a.byte_offset.map_or(0, |o| o.0);
+        if offset % size != 0 {
+            f.add(format!("{at}.byteOffset"), format!("{offset}: must be a multiple of the component size {size}"));
+        }
+        let Some(view) = a.buffer_view.and_then(|v| root.buffer_views.get(v.value())) else { continue };
+        let element = size * t.multiplicity() as u64;
+        let stride = view.byte_stride.map_or(element, |s| s.0 as u64);
+        let end = offset.saturating_add(stride.saturating_mul(a.count.0.saturating_sub(1))).saturating_add(element);
+        if end > view.byte_length.0 {
+            f.add(
+                format!("{at}.count"),
+                format!("{} elements of {element} bytes (stride {stride}) from byteOffset {offset} end at byte {end}, past bufferView {}'s byteLength {}", a.count.0, a.buffer_view.map_or(0, |v| v.value()), view.byte_length.0),
+            );
         }
     }
 }
