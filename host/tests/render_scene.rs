@@ -839,6 +839,15 @@ fn spec_bounds_are_refused_naming_the_json_path() {
         ("yfov", Box::new(camera(json!({"type": "perspective", "perspective": {"yfov": 4.0, "znear": 0.1}}))), "cameras[0].perspective.yfov"),
         ("znear", Box::new(camera(json!({"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.0}}))), "cameras[0].perspective.znear"),
         ("xmag", Box::new(camera(json!({"type": "orthographic", "orthographic": {"xmag": 0.0, "ymag": 1.0, "znear": 0.0, "zfar": 10.0}}))), "cameras[0].orthographic.xmag"),
+        ("counts", Box::new(|v: &mut Value| {
+            let mut extra = v["accessors"][0].clone();
+            extra["count"] = json!(1);
+            extra.as_object_mut().unwrap().remove("min");
+            extra.as_object_mut().unwrap().remove("max");
+            v["accessors"].as_array_mut().unwrap().push(extra);
+            let last = v["accessors"].as_array().unwrap().len() - 1;
+            v["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = json!(last);
+        }), "meshes[0].primitives[0].attributes."),
         ("stride", Box::new(|v: &mut Value| v["bufferViews"][0]["byteStride"] = json!(6)), "bufferViews[0].byteStride"),
         ("viewlen", Box::new(|v: &mut Value| v["bufferViews"][0]["byteLength"] = json!(1_000_000)), "bufferViews[0].byteLength"),
         ("accoff", Box::new(|v: &mut Value| v["accessors"][0]["byteOffset"] = json!(2)), "accessors[0].byteOffset"),

@@ -9,7 +9,7 @@
 //!   the `POSITION` one unchecked and would panic), and the accessors the loader reads have the
 //!   types the specification gives them (`POSITION`, `NORMAL` float VEC3, `TANGENT` float VEC4,
 //!   `TEXCOORD_n` VEC2, indices unsigned-integer SCALAR: the `gltf` crate's readers panic on
-//!   others); every accessor's `count` >= 1; a sparse accessor's `count` within its accessor's
+//!   others); a primitive's attributes of one count; every accessor's `count` >= 1; a sparse accessor's `count` within its accessor's
 //!   and its indices unsigned integers;
 //! - buffer views: `byteLength` >= 1, `byteStride` a multiple of 4, the view inside its buffer
 //!   (`byteOffset` + `byteLength` <= the buffer's `byteLength`); accessors: `byteOffset` a
@@ -124,11 +124,19 @@ fn positions_in_range(root: &json::Root, f: &mut Faults) {
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, p) in mesh.primitives.iter().enumerate() {
             let at = format!("meshes[{mi}].primitives[{pi}]");
+            // glTF 2.0 section 3.7.2.1: all attribute accessors of a primitive have one count
+            let mut first_count: Option<(String, u64)> = None;
             for (sem, acc) in &p.attributes {
                 let path = format!("{at}.attributes.{}", sem.to_string());
                 if acc.value() >= n {
                     f.add(path, format!("accessor index {} is out of range: the file has {n} accessors", acc.value()));
                     continue;
+                }
+                let count = root.accessors[acc.value()].count.0;
+                match &first_count {
+                    None => first_count = Some((path.clone(), count)),
+                    Some((other, c)) if *c != count => f.add(path.clone(), format!("accessor {} has {count} elements, {other} has {c}: a primitive's attributes must have one count", acc.value())),
+                    Some(_) => {}
                 }
                 // the attributes the loader reads must have the types the specification gives them
                 match sem {
