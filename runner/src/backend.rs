@@ -362,7 +362,7 @@ impl<'a, A> Launch<'a, A> {
     }
 }
 
-/// The launch fields of a kernel's argument record, filled by [`Backend::launch`]: the number of
+/// The launch fields of a kernel's argument record, filled by the launchers ([`Backend::run`]): the number of
 /// invocations of one dispatch, its workgroups in x, and the index of its first invocation (the
 /// kernel's invocation `i` is overall invocation `first + i`).
 pub trait LaunchArgs: bytemuck::Pod + Send + Sync {

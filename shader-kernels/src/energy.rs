@@ -4,7 +4,7 @@
 //!
 //! Every entry point is 1D with [`crate::WORKGROUP_SIZE`] threads and binds its launch record
 //! (`#[repr(C)]`, 4-byte fields, `bytemuck::Pod` on the host) at binding 0: the launch fields
-//! `invocations`, `groups_x` and `first` (filled by `runner::Backend::launch`), then the kernel's
+//! `invocations`, `groups_x` and `first` (filled by `runner::Backend::run`), then the kernel's
 //! parameters. Local invocation `i = id.x + id.y * groups_x * WORKGROUP_SIZE` computes item
 //! `first + i` and writes `out[stride i..]`; the CPU launcher calls the same function. The entry
 //! points copy the record into the invocation once (fields read through the binding at every use

@@ -177,8 +177,8 @@ pub const MUTANTS: &[Mutant] = &[
     Mutant {
         name: "hit reprojection adds the motion vector",
         file: RESOLVE,
-        from: "let u = ieee::div(hx, p.width as f32) - load(gbuf, b + 6);",
-        to: "let u = ieee::div(hx, p.width as f32) + load(gbuf, b + 6);",
+        from: "let u = ieee::div(hx, p.width as f32) - load(gbuf, b + gbuf::MOTION);",
+        to: "let u = ieee::div(hx, p.width as f32) + load(gbuf, b + gbuf::MOTION);",
         package: "crosscheck",
         test: "ssr_formulas",
         filter: &["ssr_approx"],
@@ -396,4 +396,21 @@ pub fn run(root: &Path, only: &str) -> Result<()> {
     }
     eprintln!("[mutants] all {} caught", chosen.len());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every mutant's source piece occurs exactly once in its file, so a refactor that rewrites a
+    /// formula's text fails here, in `cargo test`, rather than late in `cargo xtask mutants`.
+    #[test]
+    fn every_source_piece_occurs_once() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+        for m in MUTANTS {
+            let text = std::fs::read_to_string(root.join(m.file)).unwrap_or_else(|e| panic!("{}: reading {}: {e}", m.name, m.file));
+            assert_eq!(text.matches(m.from).count(), 1, "mutant {:?}: its source piece must occur once in {}", m.name, m.file);
+            assert_ne!(m.from, m.to, "mutant {:?} changes nothing", m.name);
+        }
+    }
 }
