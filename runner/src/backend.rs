@@ -1,7 +1,7 @@
 //! Backend selection (`--device auto|cpu|gpu`) and the operations every backend offers.
 
 use crate::gpu::{groups_2d, GpuContext, GpuError, OutputSpec};
-use crate::timing::{Timing, TimingSource};
+use crate::timing::Timing;
 use anyhow::{bail, Context, Result};
 use shader_kernels::eval::{EvalArgs, FunctionInfo};
 use shader_kernels::launch::{Bindings, BlockFns, ItemFn, Kernel, ListFn, SerialFn};
@@ -161,12 +161,12 @@ impl Backend {
                 }
                 let t0 = Instant::now();
                 crate::cpu::eval_table_into(f, input, rows, out);
-                Ok(Timing { seconds: t0.elapsed().as_secs_f64(), source: TimingSource::WallClock })
+                Ok(Timing::since(t0))
             }
             Backend::Gpu(g) => {
                 out.clear();
                 if rows == 0 {
-                    return Ok(Timing { seconds: 0.0, source: TimingSource::WallClock });
+                    return Ok(Timing::zero());
                 }
                 let wg = shader_kernels::WORKGROUP_SIZE as usize;
                 let max_bytes = g.max_binding_bytes();
@@ -226,8 +226,7 @@ impl Backend {
         match self {
             Backend::Cpu => {
                 let mut out = crate::cpu::touched_zeros(count * stride);
-                let mut a = launch.args;
-                a.set_launch(count as u32, groups_2d(count.div_ceil(wg) as u32).0, 0);
+                let a = cpu_args(&launch, count);
                 let b = Bindings(launch.inputs);
                 let t0 = Instant::now();
                 crate::cpu::on_backend_threads(|| out.par_chunks_mut(stride.max(1)).enumerate().for_each(|(i, o)| (kernel.cpu)(&a, &b, i as u32, o)));
