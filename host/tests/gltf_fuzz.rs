@@ -135,7 +135,7 @@ fn tiny_render(scene: &Scene, lut: &[f32]) -> anyhow::Result<usize> {
     let camera = cam.kernel(8, 8)?;
     let env = environment::build(&if scene.has_lights() { EnvSpec::Black } else { EnvSpec::Uniform([1.0; 3]) }, 1.0, 0.0)?;
     let p_env = if scene.has_lights() { 0.0 } else { 1.0 };
-    let params = RenderParams { width: 8, height: 8, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: STRATEGY_MIS, compensation: host::energy::Compensation::None.id(), clamp: 0.0, p_env, camera };
+    let params = RenderParams { width: 8, height: 8, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: STRATEGY_MIS, compensation: host::energy::Compensation::None.id(), sampler: shader_core::pt::sampler::SAMPLER_PCG, clamp: 0.0, p_env, camera };
     let inputs = RenderInputs { scene: &scene.words, env: &env.words, lut };
     let (img, _) = render(&Backend::Cpu, &inputs, &params, 1, 1, |_| {})?;
     Ok(img.color.iter().chain(&img.albedo).chain(&img.normal).chain(&img.depth).filter(|v| !v.is_finite()).count())

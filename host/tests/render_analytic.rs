@@ -9,7 +9,8 @@
 //! * a plane under a directional and a point light: every pixel equals f cos E (f from the
 //!   material, E = irradiance at normal incidence, or I / d^2) to 1e-5;
 //! * the three estimators (MIS, BSDF only, light only) agree on every 4x4 block of the built-in
-//!   scene within 6 standard errors, and the error falls as spp^-1/2;
+//!   scene within 6 standard errors, and so does MIS with Sobol samples; the error falls as
+//!   spp^-1/2 with PCG samples and as fast or faster, and lower, with Sobol samples;
 //! * an emissive quad filling a plane's hemisphere lights it as a uniform sky does (MIS and BSDF
 //!   sampling), and a small one gives the same mean with each estimator, which fails if either
 //!   half of the MIS estimate loses its weight;
@@ -23,6 +24,7 @@ use host::render::{self, RenderImage, RenderInputs};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_BSDF, STRATEGY_LIGHT, STRATEGY_MIS};
 use shader_core::pt::material::Material as Bsdf;
+use shader_core::pt::sampler::{SAMPLER_PCG, SAMPLER_SOBOL};
 use shader_core::pt::surface::MaterialPoint;
 use shader_core::Vec3;
 use std::sync::OnceLock;
@@ -60,7 +62,7 @@ fn ortho_at(theta: f32) -> Camera {
 }
 
 fn params(cam: &Camera, w: u32, h: u32, strategy: u32, comp: Compensation, p_env: f32, max_depth: u32, seed: u32) -> RenderParams {
-    RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth, rr_depth: 64, strategy, compensation: comp.id(), clamp: 0.0, p_env, camera: cam.kernel(w, h).unwrap() }
+    RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth, rr_depth: 64, strategy, compensation: comp.id(), sampler: shader_core::pt::sampler::SAMPLER_PCG, clamp: 0.0, p_env, camera: cam.kernel(w, h).unwrap() }
 }
 
 fn render(scene: &Scene, e: &env::Environment, p: &RenderParams, spp: u32) -> RenderImage {
@@ -284,8 +286,8 @@ fn delta_light_plane(light: PunctualLight, irradiance: impl Fn(Vec3) -> (Vec3, V
     for py in 0..h {
         for px in 0..w {
             // The kernel's jittered primary ray of sample 0 of this pixel: its first two numbers.
-            let mut rng = shader_core::pt::integrator::sample_rng(p.seed, py * w + px, 0);
-            let (jx, jy) = (rng.next_f32(), rng.next_f32());
+            let mut sampler = shader_core::pt::sampler::Sampler::new(p.sampler, p.seed, py * w + px, 0);
+            let (jx, jy) = sampler.next_2d();
             let ray = camera.ray(px as f32 + jx, py as f32 + jy, w, h);
             let t = -ray.o.y / ray.d.y;
             let (wi, e) = irradiance(ray.at(t));
@@ -339,14 +341,14 @@ fn point_light_on_a_plane_falls_off_as_inverse_square() {
 
 /// Independent renders of the built-in scene: per 4x4 block and channel, the mean over runs and
 /// its standard error.
-fn block_stats(strategy: u32, runs: u32, spp: u32) -> Vec<(f64, f64)> {
+fn block_stats(strategy: u32, sampler: u32, runs: u32, spp: u32) -> Vec<(f64, f64)> {
     let scene = Scene::builtin(6);
     let black = env::build(&EnvSpec::Black, 1.0, 0.0).unwrap();
     let cam = scene.cameras[0].clone();
     let (w, h) = (24u32, 24u32);
     let mut per_run: Vec<Vec<f64>> = Vec::new();
     for run in 0..runs {
-        let p = params(&cam, w, h, strategy, Compensation::Turquin, 0.0, 5, 100 + run);
+        let p = RenderParams { sampler, ..params(&cam, w, h, strategy, Compensation::Turquin, 0.0, 5, 100 + run) };
         let img = render(&scene, &black, &p, spp);
         let mut blocks = vec![0.0f64; (w / 4 * h / 4 * 3) as usize];
         for y in 0..h {
@@ -370,12 +372,13 @@ fn block_stats(strategy: u32, runs: u32, spp: u32) -> Vec<(f64, f64)> {
 
 #[test]
 fn mis_bsdf_and_light_sampling_agree() {
-    let mis = block_stats(STRATEGY_MIS, 8, 16);
-    let bsdf = block_stats(STRATEGY_BSDF, 8, 16);
-    let light = block_stats(STRATEGY_LIGHT, 8, 16);
+    let mis = block_stats(STRATEGY_MIS, SAMPLER_PCG, 8, 16);
+    let bsdf = block_stats(STRATEGY_BSDF, SAMPLER_PCG, 8, 16);
+    let light = block_stats(STRATEGY_LIGHT, SAMPLER_PCG, 8, 16);
+    let sobol = block_stats(STRATEGY_MIS, SAMPLER_SOBOL, 8, 16);
     let lit = mis.iter().filter(|(m, _)| *m > 0.01).count();
     assert!(lit > mis.len() / 2, "only {lit} of {} block values lit", mis.len());
-    for (name, other) in [("bsdf", &bsdf), ("light", &light)] {
+    for (name, other) in [("bsdf", &bsdf), ("light", &light), ("mis with sobol samples", &sobol)] {
         let mut worst = 0.0f64;
         for (k, (a, b)) in mis.iter().zip(other.iter()).enumerate() {
             let se = (a.1 * a.1 + b.1 * b.1).sqrt().max(1e-4 * a.0.abs().max(1e-3));
@@ -385,6 +388,27 @@ fn mis_bsdf_and_light_sampling_agree() {
         }
         eprintln!("mis vs {name}: largest difference {worst:.2} standard errors");
     }
+}
+
+/// Relative RMSE of `img` against the mean of two independent references, the references' own
+/// noise (estimated from their difference) removed: sqrt(mean (x - r)^2 - mean (r1 - r2)^2 / 4) / mean r.
+fn relative_rmse(img: &RenderImage, r1: &RenderImage, r2: &RenderImage) -> f64 {
+    let n = img.color.len() as f64;
+    let (mut e2, mut d2, mut m) = (0.0f64, 0.0f64, 0.0f64);
+    for ((x, a), b) in img.color.iter().zip(&r1.color).zip(&r2.color) {
+        let r = 0.5 * (*a as f64 + *b as f64);
+        e2 += (*x as f64 - r).powi(2) / n;
+        d2 += (*a as f64 - *b as f64).powi(2) / n;
+        m += r / n;
+    }
+    (e2 - d2 / 4.0).max(0.0).sqrt() / m
+}
+
+/// Least-squares slope of ln(error) against ln(spp).
+fn log_slope(pts: &[(f64, f64)]) -> f64 {
+    let n = pts.len() as f64;
+    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>()
 }
 
 #[test]
@@ -400,11 +424,40 @@ fn error_falls_as_one_over_sqrt_spp() {
         let mse = img.color.iter().zip(&reference.color).map(|(a, b)| ((a - b) as f64).powi(2)).sum::<f64>() / img.color.len() as f64;
         pts.push(((spp as f64).ln(), 0.5 * mse.ln()));
     }
-    let n = pts.len() as f64;
-    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
-    let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    let slope = log_slope(&pts);
     eprintln!("RMSE slope against spp: {slope:.3}");
     assert!((slope + 0.5).abs() < 0.15, "RMSE falls as spp^{slope:.3}, expected spp^-0.5");
+}
+
+#[test]
+fn sobol_samples_converge_as_fast_or_faster_and_lower_than_pcg() {
+    // The shared Cornell box under a uniform sky (as `host render` lights it): smooth enough
+    // that stratification shows; references from two independent PCG renders.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
+    let scene = Scene::load(path).unwrap();
+    let sky = env::build(&EnvSpec::Uniform([1.0; 3]), 1.0, 0.0).unwrap();
+    let cam = scene.cameras[0].clone();
+    let (w, h) = (32u32, 32u32);
+    let at = |sampler: u32, seed: u32, spp: u32| {
+        let p = RenderParams { sampler, ..params(&cam, w, h, STRATEGY_MIS, Compensation::Turquin, 1.0, 8, seed) };
+        render(&scene, &sky, &p, spp)
+    };
+    let (r1, r2) = (at(SAMPLER_PCG, 999, 2048), at(SAMPLER_PCG, 998, 2048));
+    let mut err = [[0.0f64; 4]; 2];
+    for (k, sampler) in [SAMPLER_PCG, SAMPLER_SOBOL].into_iter().enumerate() {
+        let mut pts = Vec::new();
+        for (j, spp) in [4u32, 16, 64, 256].into_iter().enumerate() {
+            err[k][j] = relative_rmse(&at(sampler, 7, spp), &r1, &r2);
+            pts.push(((spp as f64).ln(), err[k][j].ln()));
+        }
+        let slope = log_slope(&pts);
+        eprintln!("sampler {sampler}: relative RMSE {:?}, slope against spp {slope:.3}", err[k]);
+        assert!(slope < -0.4 && slope > -1.0, "sampler {sampler}: RMSE falls as spp^{slope:.3}, expected spp^-0.5 or faster");
+    }
+    // Stratified samples: lower error than independent ones at every spp from 16 on.
+    for j in 1..4 {
+        assert!(err[1][j] < 0.85 * err[0][j], "at {} spp Sobol's relative RMSE {} is not below 0.85 x PCG's {}", [4, 16, 64, 256][j], err[1][j], err[0][j]);
+    }
 }
 
 #[test]

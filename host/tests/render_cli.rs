@@ -37,6 +37,7 @@ fn builtin_render_writes_exr_png_and_json_and_is_reproducible() {
     }
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.with_extension("json")).unwrap()).unwrap();
     assert_eq!(json["spp"], 3);
+    assert_eq!(json["sampler"], "sobol");
     assert!(json["rays_per_second"].as_f64().unwrap() > 0.0);
     assert_eq!(json["digest"].as_str().unwrap(), digest(&a));
     // Same seed and settings, another split into launches: the same image.
@@ -49,6 +50,15 @@ fn builtin_render_writes_exr_png_and_json_and_is_reproducible() {
     other.extend(["--seed", "9"]);
     let c = host(&other);
     assert_ne!(digest(&a), digest(&c), "another seed gave the same image");
+    // The other sampler: another image, also independent of the launch split.
+    let mut pcg = args.to_vec();
+    pcg.extend(["--sampler", "pcg"]);
+    let d = host(&pcg);
+    assert!(d.status.success(), "{}", stderr(&d));
+    assert_ne!(digest(&a), digest(&d), "--sampler pcg gave the Sobol image");
+    assert_eq!(json_of(&out.with_extension("json"))["sampler"], "pcg");
+    pcg[10] = "1";
+    assert_eq!(digest(&d), digest(&host(&pcg)), "the launch split changed the PCG image");
 }
 
 #[test]
@@ -77,6 +87,7 @@ fn bad_options_are_named() {
         (&["--clamp=-1"], "--clamp"),
         (&["--exposure", "nan"], "--exposure"),
         (&["--env-scale", "inf"], "--env-scale"),
+        (&["--sampler", "halton"], "--sampler"),
         (&["--camera", "nosuch"], "built-in scene has one camera"),
         (&["--width", "16384", "--height", "16384"], "2^26"),
         (&["--strategy", "guess"], "guess"),

@@ -67,6 +67,7 @@ fn params(cam: &Camera, w: u32, h: u32, seed: u32) -> RenderParams {
         rr_depth: 8,
         strategy: STRATEGY_MIS,
         compensation: shader_core::energy::COMP_NONE,
+        sampler: shader_core::pt::sampler::SAMPLER_PCG,
         clamp: 0.0,
         p_env: 1.0,
         camera: cam.kernel(w, h).unwrap(),

@@ -491,7 +491,7 @@ fn feature_scene_loads_without_warnings_and_flattens_as_written() {
     let black = host::render::environment::build(&host::render::environment::EnvSpec::Black, 1.0, 0.0).unwrap();
     let lut = vec![0.0f32; shader_core::energy::LUT_HEADER];
     let camera = s.camera("closeup").unwrap().kernel(16, 16).unwrap();
-    let p = shader_core::pt::integrator::RenderParams { width: 16, height: 16, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: 0, compensation: shader_core::energy::COMP_NONE, clamp: 0.0, p_env: 0.0, camera };
+    let p = shader_core::pt::integrator::RenderParams { width: 16, height: 16, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: 0, compensation: shader_core::energy::COMP_NONE, sampler: shader_core::pt::sampler::SAMPLER_PCG, clamp: 0.0, p_env: 0.0, camera };
     let inputs = host::render::RenderInputs { scene: w, env: &black.words, lut: &lut };
     let (img, _) = host::render::render(&host::Backend::Cpu, &inputs, &p, 4, 4, |_| {}).unwrap();
     assert!(img.color.iter().all(|v| v.is_finite()), "non-finite pixels");

@@ -15,7 +15,7 @@
 //! let env = scene::environment::build(&scene::environment::EnvSpec::Black, 1.0, 0.0)?;
 //! let lut = vec![0.0; shader_core::energy::LUT_HEADER]; // no energy compensation
 //! let compensation = shader_core::energy::COMP_NONE;
-//! let params = RenderParams { width: 16, height: 16, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: STRATEGY_MIS, compensation, clamp: 0.0, p_env: 0.0, camera };
+//! let params = RenderParams { width: 16, height: 16, spp: 1, sample_base: 0, seed: 1, max_depth: 4, rr_depth: 3, strategy: STRATEGY_MIS, compensation, sampler: shader_core::pt::sampler::SAMPLER_PCG, clamp: 0.0, p_env: 0.0, camera };
 //! let inputs = render::RenderInputs { scene: &scene.words, env: &env.words, lut: &lut };
 //! let (img, _timing) = render::render(&runner::Backend::Cpu, &inputs, &params, 2, 1, |_done| {})?;
 //! assert!(img.color.iter().all(|v| v.is_finite()) && img.color.iter().any(|&v| v > 0.0));

@@ -10,7 +10,9 @@
 
 use super::math::Mat4;
 use glam::DVec3;
+use super::gltf_write::GltfWriter;
 use super::{Camera, Material, MeshData, Projection, Scene, SceneBuilder};
+use anyhow::{bail, Result};
 
 /// Latitude bands per sphere of the default built-in scene (11.5k triangles).
 pub const DEFAULT_DETAIL: u32 = 16;
@@ -100,16 +102,26 @@ pub fn uv_sphere(name: &str, r: f32, bands: u32) -> MeshData {
     MeshData { name: name.into(), positions, normals: Some(normals), uvs: Some(uvs), tangents: None, indices: Some(indices) }
 }
 
-/// The built-in Cornell box with spheres (see the module doc) at `detail` latitude bands per
-/// sphere.
-pub fn cornell_spheres(detail: u32) -> Scene {
-    let detail = detail.max(3);
-    let mut b = SceneBuilder::new(&format!("builtin cornell box (detail {detail})"));
-    let white = b.material(Material::pbr("white", [0.73, 0.73, 0.73], 0.0, 1.0));
-    let red = b.material(Material::pbr("red", [0.65, 0.05, 0.05], 0.0, 1.0));
-    let green = b.material(Material::pbr("green", [0.12, 0.45, 0.15], 0.0, 1.0));
-    let light = b.material(Material { emissive: [17.0, 12.0, 4.0], ..Material::pbr("light", [0.78, 0.78, 0.78], 0.0, 1.0) });
-    let id = Mat4::IDENTITY;
+/// The built-in scene's pieces in build order: its materials, its meshes (each a geometry of
+/// `geometry`, a material index and the local-to-world transform) and its camera. Both
+/// [`cornell_spheres`] and [`cornell_spheres_gltf`] are made from them, so the two stay the
+/// same scene.
+struct Parts {
+    materials: Vec<Material>,
+    geometry: Vec<MeshData>,
+    meshes: Vec<(usize, usize, Mat4)>,
+    camera: Camera,
+}
+
+/// The pieces of the built-in scene at `detail` (>= 3) latitude bands per sphere.
+fn parts(detail: u32) -> Parts {
+    let mut materials = vec![
+        Material::pbr("white", [0.73, 0.73, 0.73], 0.0, 1.0),
+        Material::pbr("red", [0.65, 0.05, 0.05], 0.0, 1.0),
+        Material::pbr("green", [0.12, 0.45, 0.15], 0.0, 1.0),
+        Material { emissive: [17.0, 12.0, 4.0], ..Material::pbr("light", [0.78, 0.78, 0.78], 0.0, 1.0) },
+    ];
+    let (white, red, green, light) = (0, 1, 2, 3);
     let walls = [
         ("floor", [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]], [0.0, 1.0, 0.0], white),
         ("ceiling", [[-1.0, 2.0, -1.0], [1.0, 2.0, -1.0], [1.0, 2.0, 1.0], [-1.0, 2.0, 1.0]], [0.0, -1.0, 0.0], white),
@@ -118,26 +130,79 @@ pub fn cornell_spheres(detail: u32) -> Scene {
         ("right", [[1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [1.0, 2.0, 1.0], [1.0, 2.0, -1.0]], [-1.0, 0.0, 0.0], green),
         ("light", [[-0.25, 1.98, -0.2], [0.25, 1.98, -0.2], [0.25, 1.98, 0.2], [-0.25, 1.98, 0.2]], [0.0, -1.0, 0.0], light),
     ];
+    let mut geometry = Vec::new();
+    let mut meshes = Vec::new();
     for (name, p, n, m) in walls {
-        b.mesh(&quad(name, p, n), m, &id).expect("built-in quad");
+        geometry.push(quad(name, p, n));
+        meshes.push((geometry.len() - 1, m, Mat4::IDENTITY));
     }
-    let sphere = uv_sphere("sphere", RADIUS, detail);
+    geometry.push(uv_sphere("sphere", RADIUS, detail));
+    let sphere = geometry.len() - 1;
     for i in 0..6 {
         let roughness = 0.2 * i as f32;
         let x = -0.75 + 0.3 * i as f64;
-        let gold = b.material(Material::pbr(&format!("gold {roughness:.1}"), [1.0, 0.78, 0.34], 1.0, roughness));
-        let blue = b.material(Material::pbr(&format!("blue plastic {roughness:.1}"), [0.05, 0.15, 0.6], 0.0, roughness));
-        b.mesh(&sphere, gold, &Mat4::translation(DVec3::new(x, RADIUS as f64, 0.35))).expect("built-in sphere");
-        b.mesh(&sphere, blue, &Mat4::translation(DVec3::new(x, RADIUS as f64, -0.3))).expect("built-in sphere");
+        materials.push(Material::pbr(&format!("gold {roughness:.1}"), [1.0, 0.78, 0.34], 1.0, roughness));
+        materials.push(Material::pbr(&format!("blue plastic {roughness:.1}"), [0.05, 0.15, 0.6], 0.0, roughness));
+        let (gold, blue) = (materials.len() - 2, materials.len() - 1);
+        meshes.push((sphere, gold, Mat4::translation(DVec3::new(x, RADIUS as f64, 0.35))));
+        meshes.push((sphere, blue, Mat4::translation(DVec3::new(x, RADIUS as f64, -0.3))));
     }
-    b.camera(Camera {
+    let camera = Camera {
         name: "default".into(),
         position: [0.0, 1.0, 3.4],
         forward: [0.0, 0.0, -1.0],
         up: [0.0, 1.0, 0.0],
         projection: Projection::Perspective { yfov: 40f32.to_radians(), aspect: None },
-    });
+    };
+    Parts { materials, geometry, meshes, camera }
+}
+
+/// The built-in Cornell box with spheres (see the module doc) at `detail` latitude bands per
+/// sphere.
+pub fn cornell_spheres(detail: u32) -> Scene {
+    let p = parts(detail.max(3));
+    let mut b = SceneBuilder::new(&format!("builtin cornell box (detail {})", detail.max(3)));
+    for m in p.materials {
+        b.material(m);
+    }
+    for (g, m, t) in &p.meshes {
+        b.mesh(&p.geometry[*g], *m as u32, t).expect("built-in mesh");
+    }
+    b.camera(p.camera);
     b.build().expect("the built-in scene builds")
+}
+
+/// The built-in scene at `detail` as a glTF document ([`GltfWriter::write`] puts it on disk),
+/// with `camera` (default: the scene's own camera "default"), so that loading the file
+/// renders the same image as [`cornell_spheres`]: meshes in the same order with the same
+/// materials, positions moved to world space with the builder's arithmetic (f64, rounded
+/// once to f32, so they load back bit-identical). Texture coordinates are not written (the
+/// scene has no textures). Fails on an orthographic `camera` (the writer writes perspective
+/// cameras only) or a camera whose up is parallel to its direction.
+pub fn cornell_spheres_gltf(detail: u32, camera: Option<&Camera>) -> Result<GltfWriter> {
+    let p = parts(detail.max(3));
+    let mut w = GltfWriter::new();
+    for m in &p.materials {
+        w.material(m);
+    }
+    for (g, m, t) in &p.meshes {
+        let local = &p.geometry[*g];
+        let world = MeshData {
+            positions: local.positions.iter().map(|&q| t.point(q).as_vec3().to_array()).collect(),
+            normals: local.normals.as_ref().map(|ns| ns.iter().map(|n| t.normal(DVec3::from(n.map(|x| x as f64))).as_vec3().to_array()).collect()),
+            uvs: None,
+            ..local.clone()
+        };
+        w.mesh(&world, *m)?;
+    }
+    let c = camera.unwrap_or(&p.camera);
+    let Projection::Perspective { yfov, .. } = c.projection else {
+        bail!("camera {:?}: orthographic; the glTF writer writes perspective cameras only", c.name);
+    };
+    let eye = DVec3::from(c.position.map(|x| x as f64));
+    let forward = DVec3::from(c.forward.map(|x| x as f64));
+    w.camera(&c.name, eye, eye + forward, DVec3::from(c.up.map(|x| x as f64)), yfov)?;
+    Ok(w)
 }
 
 #[cfg(test)]

@@ -31,7 +31,7 @@ mod validate;
 
 pub use builder::SceneBuilder;
 pub use builder::{luminance, material_words};
-pub use builtin::{builtin_detail_for_triangles, builtin_triangles, uv_sphere, DEFAULT_DETAIL};
+pub use builtin::{builtin_detail_for_triangles, builtin_triangles, cornell_spheres_gltf, uv_sphere, DEFAULT_DETAIL};
 pub use camera::{Camera, Projection};
 pub use math::Mat4;
 

@@ -130,27 +130,69 @@ pub fn radical_inverse_base2(i: u32) -> f32 {
     u32_to_unit_f32(reverse_bits(i))
 }
 
+/// Sobol dimension 2 (primitive polynomial x + 1, Joe & Kuo direction numbers v_0 = 2^31,
+/// v_(k+1) = v_k ^ (v_k >> 1): the Pascal triangle mod 2) of index `i`, bit-reversed: bit j is
+/// the XOR of the bits k of `i` with j a bit-subset of k (Lucas' theorem: C(k, j) is odd), the
+/// subset-sum transform in five shift-and-mask steps instead of a loop over the bits of `i`.
+#[inline]
+pub fn sobol_dim2_reversed(i: u32) -> u32 {
+    let mut r = i;
+    r ^= (r >> 1) & 0x5555_5555;
+    r ^= (r >> 2) & 0x3333_3333;
+    r ^= (r >> 4) & 0x0f0f_0f0f;
+    r ^= (r >> 8) & 0x00ff_00ff;
+    r ^= (r >> 16) & 0x0000_ffff;
+    r
+}
+
 /// The i-th point of the 2D Sobol sequence (first two dimensions; Joe & Kuo direction numbers:
-/// dimension 1 is the van der Corput sequence, dimension 2 uses primitive polynomial x + 1),
-/// optionally Owen-free XOR-scrambled by `scramble` (two words).
+/// dimension 1 is the van der Corput sequence, dimension 2 [`sobol_dim2_reversed`]), XOR-scrambled
+/// by `scramble_x`, `scramble_y` (random digit scrambling).
 #[inline]
 pub fn sobol_2d(i: u32, scramble_x: u32, scramble_y: u32) -> (f32, f32) {
     let x = reverse_bits(i) ^ scramble_x;
-    // Dimension 2: v_k = the Pascal-triangle-mod-2 direction numbers, via the Gray-code-free
-    // product: y = sum over set bits k of i of v_k.
-    let mut y: u32 = 0;
-    let mut v: u32 = 1 << 31;
-    let mut bits = i;
-    let mut k = 0;
-    while bits != 0 && k < 32 {
-        if bits & 1 != 0 {
-            y ^= v;
-        }
-        v ^= v >> 1;
-        bits >>= 1;
-        k += 1;
-    }
-    (u32_to_unit_f32(x), u32_to_unit_f32(y ^ scramble_y))
+    let y = reverse_bits(sobol_dim2_reversed(i)) ^ scramble_y;
+    (u32_to_unit_f32(x), u32_to_unit_f32(y))
+}
+
+/// Hash-based Owen scrambling in bit-reversed order (Burley 2020, "Practical Hash-based Owen
+/// Scrambling", JCGT 9(4), listing 2, after Laine & Karras 2011): a bijection of u32 in which
+/// output bit k depends only on input bits 0..=k and the seed, so applied to a bit-reversed
+/// value it flips each digit by a hash of the digits above it (a nested uniform scramble).
+#[inline]
+pub fn laine_karras_permutation(x: u32, seed: u32) -> u32 {
+    let mut x = x.wrapping_add(seed);
+    x ^= x.wrapping_mul(0x6c50_b47c);
+    x ^= x.wrapping_mul(0xb82f_1e52);
+    x ^= x.wrapping_mul(0xc7af_e638);
+    x ^= x.wrapping_mul(0x8d22_f6e6);
+    x
+}
+
+/// Nested uniform (Owen) scramble of a 32-bit fixed-point value or index (Burley 2020, listing 3).
+#[inline]
+pub fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    reverse_bits(laine_karras_permutation(reverse_bits(x), seed))
+}
+
+/// Sample `index` of a 1D Owen-scrambled Sobol (van der Corput) sequence, its index shuffled by
+/// another Owen scramble (Burley 2020, section 4: "shuffled scrambled Sobol"); `seed` picks the
+/// scramble, so independent seeds give independent randomized sequences.
+#[inline]
+pub fn sobol_owen_1d(index: u32, seed: u32) -> f32 {
+    let i = nested_uniform_scramble(index, seed);
+    // Dimension 1 is reverse_bits(i); its Owen scramble is reverse_bits(LK(i)).
+    u32_to_unit_f32(reverse_bits(laine_karras_permutation(i, pcg_hash(seed ^ 0x5b1d_0001))))
+}
+
+/// Sample `index` of a 2D Owen-scrambled, index-shuffled Sobol sequence (dimensions 1 and 2;
+/// Burley 2020, section 4); each prefix of 2^m samples is a (0, m, 2)-net for every seed.
+#[inline]
+pub fn sobol_owen_2d(index: u32, seed: u32) -> (f32, f32) {
+    let i = nested_uniform_scramble(index, seed);
+    let x = reverse_bits(laine_karras_permutation(i, pcg_hash(seed ^ 0x5b1d_0001)));
+    let y = reverse_bits(laine_karras_permutation(sobol_dim2_reversed(i), pcg_hash(seed ^ 0x5b1d_0002)));
+    (u32_to_unit_f32(x), u32_to_unit_f32(y))
 }
 
 /// The i-th point of the R2 sequence (Roberts 2018, plastic-constant Kronecker lattice), computed

@@ -87,3 +87,80 @@ fn r2_is_well_spread() {
         assert!((95..=105).contains(&c), "{cells:?}");
     }
 }
+
+/// Dimension 2 of Sobol from its direction numbers, one bit of the index at a time.
+fn sobol_dim2_by_direction_numbers(i: u32) -> u32 {
+    let (mut y, mut v, mut bits) = (0u32, 1u32 << 31, i);
+    while bits != 0 {
+        if bits & 1 != 0 {
+            y ^= v;
+        }
+        v ^= v >> 1;
+        bits >>= 1;
+    }
+    y
+}
+
+#[test]
+fn sobol_dim2_transform_equals_direction_numbers() {
+    let mut r = Pcg32::new(9, 9);
+    let idx: Vec<u32> = (0..4096).chain([u32::MAX, 1 << 31, 0xdead_beef]).chain((0..4096).map(|_| r.next_u32())).collect();
+    for i in idx {
+        assert_eq!(reverse_bits(sobol_dim2_reversed(i)), sobol_dim2_by_direction_numbers(i), "index {i:#x}");
+    }
+}
+
+/// Whether points `pts` (2^m of them) put exactly one point in every elementary interval
+/// [a/2^k, (a+1)/2^k) x [b/2^(m-k), (b+1)/2^(m-k)), k = 0..=m: a (0, m, 2)-net in base 2.
+fn is_0m2_net(pts: &[(f32, f32)]) -> bool {
+    let m = pts.len().trailing_zeros();
+    (0..=m).all(|k| {
+        let (nx, ny) = (1usize << k, 1usize << (m - k));
+        let mut seen = vec![0u32; pts.len()];
+        for &(x, y) in pts {
+            seen[(y * ny as f32) as usize * nx + (x * nx as f32) as usize] += 1;
+        }
+        seen.iter().all(|&c| c == 1)
+    })
+}
+
+#[test]
+fn owen_scrambled_sobol_prefixes_are_nets_for_every_seed() {
+    for seed in [0u32, 1, 7, 0xdead_beef, 0x8000_0000, u32::MAX] {
+        for m in [0u32, 1, 4, 8] {
+            let pts: Vec<(f32, f32)> = (0..1u32 << m).map(|i| sobol_owen_2d(i, seed)).collect();
+            assert!(is_0m2_net(&pts), "seed {seed:#x}, 2^{m} points");
+            // The 1D sequence puts one point in each of 2^m intervals.
+            let mut seen = vec![0u32; 1 << m];
+            for i in 0..1u32 << m {
+                seen[(sobol_owen_1d(i, seed) * (1u32 << m) as f32) as usize] += 1;
+            }
+            assert!(seen.iter().all(|&c| c == 1), "1D, seed {seed:#x}, 2^{m} points");
+        }
+        // A prefix that is not a power of two is still well spread, and the next block of 2^m is a net too.
+        let pts: Vec<(f32, f32)> = (256..512).map(|i| sobol_owen_2d(i, seed)).collect();
+        assert!(is_0m2_net(&pts), "seed {seed:#x}, points 256..512");
+    }
+}
+
+#[test]
+fn owen_scrambling_randomizes_each_point_uniformly() {
+    // One index under many seeds: each coordinate uniform on [0, 1) (Owen 1995: every point of a
+    // nested uniform scramble is uniformly distributed), and seeds give different sequences.
+    let (mut hx, mut hy, mut h1) = ([0u32; 16], [0u32; 16], [0u32; 16]);
+    for seed in 0..64_000u32 {
+        let (x, y) = sobol_owen_2d(5, pcg_hash(seed));
+        hx[(x * 16.0) as usize] += 1;
+        hy[(y * 16.0) as usize] += 1;
+        h1[(sobol_owen_1d(5, pcg_hash(seed)) * 16.0) as usize] += 1;
+    }
+    for h in [hx, hy, h1] {
+        assert!(h.iter().all(|&c| (3_700..4_300).contains(&c)), "{h:?}");
+    }
+    assert_ne!(sobol_owen_2d(3, 1), sobol_owen_2d(3, 2));
+    // The scramble is a bijection: distinct indices map to distinct values.
+    let mut v: Vec<u32> = (0..65_536u32).map(|i| nested_uniform_scramble(i, 12_345)).collect();
+    v.sort_unstable();
+    v.dedup();
+    assert_eq!(v.len(), 65_536);
+}

@@ -1,5 +1,5 @@
 //! The path tracer CPU vs GPU (0 ULP): every pixel of the radiance and of every AOV, on the
-//! built-in scene for every estimator and compensation mode, on the Cornell box of `scenes/cornell_box/` over
+//! built-in scene for every estimator and compensation mode (Sobol samples) and with PCG samples, on the Cornell box of `scenes/cornell_box/` over
 //! several progressive launches, and on a test-made scene with textures, a normal map, an alpha
 //! mask, transmission, punctual lights and an environment map; the G-buffer / SSR reference
 //! kernel (`render::pt_gbuffer`) on the Cornell box and the feature scene over progressive
@@ -12,6 +12,7 @@ use host::render::scene::{LightKind, Mat4, Material, MeshData, PunctualLight, Sc
 use host::render::{self, RenderImage, RenderInputs};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_BSDF, STRATEGY_LIGHT, STRATEGY_MIS};
+use shader_core::pt::sampler::{SAMPLER_PCG, SAMPLER_SOBOL};
 
 fn lut() -> Vec<f32> {
     let spec = TableSpec { n_mu: 16, n_r: 16, n_avg: 16, samples: 256, avg_samples: 512, chunk: 256, ..TableSpec::default() };
@@ -33,6 +34,7 @@ fn params(scene: &Scene, w: u32, h: u32, strategy: u32, compensation: u32, p_env
         rr_depth: 2,
         strategy,
         compensation,
+        sampler: SAMPLER_SOBOL,
         clamp: 0.0,
         p_env,
         camera: cam.kernel(w, h).unwrap(),
@@ -68,6 +70,9 @@ fn builtin_scene_every_strategy_and_compensation() {
             both(&format!("builtin {name} {}", comp.label()), gpu, &inputs, &p, 2, 2);
         }
     }
+    // The other sampler: independent PCG32 numbers.
+    let p = RenderParams { sampler: SAMPLER_PCG, ..params(&scene, 40, 30, STRATEGY_MIS, Compensation::Turquin.id(), 0.0) };
+    both("builtin mis turquin pcg", gpu, &inputs, &p, 2, 2);
 }
 
 #[test]

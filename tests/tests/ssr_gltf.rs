@@ -46,6 +46,7 @@ fn frames(which: GltfScene, dir: &std::path::Path) -> (GBuffer, GBuffer) {
             rr_depth: 3,
             strategy: STRATEGY_MIS,
             compensation: shader_core::energy::COMP_NONE,
+            sampler: shader_core::pt::sampler::SAMPLER_PCG,
             clamp: 0.0,
             p_env: if sc.has_lights() { 0.5 } else { 1.0 },
             camera: cam(k),

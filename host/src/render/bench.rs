@@ -1,6 +1,6 @@
 //! `host bench render`: rays per second of the path tracer on the CPU backend (all threads and
 //! one) and the GPU backend on the same image (whose digests must agree), cost against scene
-//! size, the time to a given error at 512x512, and memory. Writes `out/render-bench.md` + `.json`.
+//! size, the time to a given error at 512x512 with Sobol and with PCG samples, and memory. Writes `out/render-bench.md` + `.json`.
 
 use super::environment::{self, EnvSpec};
 use super::scene::{builtin_detail_for_triangles, Scene};
@@ -11,6 +11,7 @@ use anyhow::{Context, Result};
 use runner::{Backend, DeviceChoice};
 use serde::Serialize;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_MIS};
+use shader_core::pt::sampler::{SAMPLER_PCG, SAMPLER_SOBOL};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -56,7 +57,7 @@ pub struct Row {
 
 fn params(scene: &Scene, w: u32, h: u32, seed: u32) -> Result<RenderParams> {
     let cam = scene.cameras.first().context("the built-in scene has a camera")?;
-    Ok(RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth: 8, rr_depth: 3, strategy: STRATEGY_MIS, compensation: Compensation::Turquin.id(), clamp: 0.0, p_env: 0.0, camera: cam.kernel(w, h)? })
+    Ok(RenderParams { width: w, height: h, spp: 1, sample_base: 0, seed, max_depth: 8, rr_depth: 3, strategy: STRATEGY_MIS, compensation: Compensation::Turquin.id(), sampler: SAMPLER_SOBOL, clamp: 0.0, p_env: 0.0, camera: cam.kernel(w, h)? })
 }
 
 struct Timed {
@@ -91,6 +92,15 @@ fn row(measure: &str, backend: &str, scene: &Scene, p: &RenderParams, spp: u32, 
         digest: format!("{:016x}", t.img.digest()),
         note,
     }
+}
+
+/// Relative RMSE of one image from two independent renders `a`, `b` of it: sqrt(mean (a - b)^2 / 2)
+/// / mean (a + b) / 2, in f64.
+fn relative_rmse_of_pair(a: &[f32], b: &[f32]) -> f64 {
+    let n = a.len() as f64;
+    let mse2: f64 = a.iter().zip(b).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>() / n;
+    let mean: f64 = a.iter().zip(b).map(|(x, y)| 0.5 * (*x as f64 + *y as f64)).sum::<f64>() / n;
+    (mse2 / 2.0).sqrt() / mean
 }
 
 /// Run the benchmark.
@@ -142,28 +152,37 @@ pub fn run(a: &RenderBenchArgs) -> Result<()> {
         rows.push(row("scene size", "CPU", &s, &p, spp, &t, None, format!("{} BVH nodes", s.counts.nodes)));
     }
 
-    // Time to error at 512x512 (CPU): the relative RMSE of an n-spp image, estimated from two
-    // independent renders (E|a - b|^2 = 2 Var for unbiased a, b), and the spp it needs for a
-    // target error from RMSE ~ spp^-1/2.
-    let (ew, eh, es) = if a.quick { (256, 256, 4) } else { (512, 512, 16) };
-    let pa = params(&scene, ew, eh, 11)?;
-    let pb = params(&scene, ew, eh, 12)?;
-    let ta = timed(&cpu, &inputs, &pa, es)?;
-    let tb = timed(&cpu, &inputs, &pb, es)?;
-    let n = ta.img.color.len() as f64;
-    let mse2: f64 = ta.img.color.iter().zip(&tb.img.color).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>() / n;
-    let mean: f64 = ta.img.color.iter().zip(&tb.img.color).map(|(x, y)| 0.5 * (*x as f64 + *y as f64)).sum::<f64>() / n;
-    let rel = (mse2 / 2.0).sqrt() / mean;
-    let per_spp = ta.wall / es as f64;
-    let mut note = String::new();
-    for target in [0.1f64, 0.05] {
-        let need = es as f64 * (rel / target).powi(2);
-        let _ = write!(note, "error {target}: ~{need:.0} spp, ~{:.0} s; ", need * per_spp);
+    // Time to error at 512x512 (CPU), per sampler: the relative RMSE of an n-spp image,
+    // estimated from two independent renders (E|a - b|^2 = 2 Var for unbiased a, b with
+    // independent random numbers or scrambles), at two sample counts; the spp a target error
+    // needs, from the power law RMSE ~ spp^b through the two points.
+    let (ew, eh) = if a.quick { (256, 256) } else { (512, 512) };
+    let ladder = if a.quick { [4u32, 16] } else { [16u32, 64] };
+    for (sampler, name) in [(SAMPLER_SOBOL, "sobol"), (SAMPLER_PCG, "pcg")] {
+        let mut pts = Vec::new();
+        for es in ladder {
+            let pa = RenderParams { sampler, ..params(&scene, ew, eh, 11)? };
+            let pb = RenderParams { sampler, ..params(&scene, ew, eh, 12)? };
+            let ta = timed(&cpu, &inputs, &pa, es)?;
+            let tb = timed(&cpu, &inputs, &pb, es)?;
+            let rel = relative_rmse_of_pair(&ta.img.color, &tb.img.color);
+            eprintln!("{ew}x{eh}, {name}, {es} spp: relative RMSE {rel:.4} in {:.2} s", ta.wall);
+            pts.push((es, rel, ta.wall / es as f64));
+            let mut note = String::new();
+            if pts.len() == 2 {
+                let ((n0, e0, _), (n1, e1, per_spp)) = (pts[0], pts[1]);
+                let b = (e1 / e0).ln() / (n1 as f64 / n0 as f64).ln();
+                let _ = write!(note, "RMSE ~ spp^{b:.3}; ");
+                for target in [0.1f64, 0.05] {
+                    let need = n1 as f64 * (target / e1).powf(1.0 / b);
+                    let _ = write!(note, "error {target}: ~{need:.0} spp, ~{:.0} s; ", need * per_spp);
+                }
+            }
+            let mut r = row("time to error", &format!("CPU, {name} samples"), &scene, &pa, es, &ta, None, note.trim_end_matches("; ").to_string());
+            r.relative_rmse = Some(rel);
+            rows.push(r);
+        }
     }
-    let mut r = row("time to error", "CPU", &scene, &pa, es, &ta, None, note.trim_end_matches("; ").to_string());
-    r.relative_rmse = Some(rel);
-    eprintln!("{ew}x{eh} at {es} spp: relative RMSE {rel:.4} in {:.2} s", ta.wall);
-    rows.push(r);
 
     // Memory.
     let out_bytes = w as usize * h as usize * shader_kernels::render::OUT_STRIDE * 4;
@@ -190,7 +209,7 @@ pub fn run(a: &RenderBenchArgs) -> Result<()> {
     let _ = writeln!(md, "# Path tracer benchmark\n");
     let _ = writeln!(md, "`{}`\n", info.command);
     let _ = writeln!(md, "Machine: {} ({} CPU threads); GPU backend: {}; load average at start {:?}.\n", info.cpu, info.cpu_threads, info.adapter.as_deref().unwrap_or("none"), info.load_average_start);
-    let _ = writeln!(md, "Built-in Cornell box, MIS, max depth 8, Russian roulette from bounce 3, Turquin compensation. Rays = closest-hit (primary + secondary) + shadow rays.\n");
+    let _ = writeln!(md, "Built-in Cornell box, MIS, max depth 8, Russian roulette from bounce 3, Turquin compensation, Sobol samples (the time-to-error rows: Sobol and PCG). Rays = closest-hit (primary + secondary) + shadow rays.\n");
     let _ = writeln!(md, "| measure | backend | triangles | image | spp | seconds | M rays/s | M samples/s | compile s | BVH build s | scene MB | rel. RMSE | note |");
     let _ = writeln!(md, "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|");
     for r in &rows {

@@ -34,6 +34,34 @@ impl Strategy {
     }
 }
 
+/// The random numbers of the path samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplerKind {
+    /// Padded Owen-scrambled Sobol (Burley 2020): each pixel's samples stratified in every 1D
+    /// and 2D dimension; lower error than pcg at equal spp, best at powers of two.
+    Sobol,
+    /// Independent uniform numbers (one PCG32 stream per pixel sample).
+    Pcg,
+}
+
+impl SamplerKind {
+    /// The kernel's constant.
+    pub fn id(self) -> u32 {
+        match self {
+            SamplerKind::Sobol => shader_core::pt::sampler::SAMPLER_SOBOL,
+            SamplerKind::Pcg => shader_core::pt::sampler::SAMPLER_PCG,
+        }
+    }
+
+    /// The name `--sampler` takes.
+    pub fn label(self) -> &'static str {
+        match self {
+            SamplerKind::Sobol => "sobol",
+            SamplerKind::Pcg => "pcg",
+        }
+    }
+}
+
 /// Render a glTF scene (or the built-in one) with the path tracer, on the CPU or a GPU.
 ///
 /// Without SCENE, renders the built-in Cornell box: an area light, a front row of gold metal
@@ -103,6 +131,9 @@ pub struct RenderCommand {
     /// Seed of the random numbers.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// Random numbers: sobol (Owen-scrambled Sobol, stratified per pixel) or pcg (independent).
+    #[arg(long, value_enum, default_value = "sobol")]
+    pub sampler: SamplerKind,
     /// Estimator: mis, bsdf or light.
     #[arg(long, value_enum, default_value = "mis")]
     pub strategy: Strategy,
@@ -161,6 +192,13 @@ pub struct RenderCommand {
     /// Frame of the --orbit camera path (default 1).
     #[arg(long, requires = "orbit", allow_negative_numbers = true)]
     pub frame: Option<i32>,
+    /// Write the scene this command would render as glTF 2.0 (`PATH.gltf` and its buffer
+    /// `PATH.bin`) with the camera it would use (after --camera, --look-from, --look-at, --up,
+    /// --fov, --orbit/--frame), and exit without rendering (-o is not written). The built-in
+    /// scene only (at --detail): a SCENE file is already glTF. For renderers that read glTF
+    /// (benches/peers).
+    #[arg(long, value_name = "PATH.gltf")]
+    pub write_scene: Option<PathBuf>,
 }
 
 /// A scene ready to render: the loaded scene, its camera, environment and tables.
@@ -223,6 +261,7 @@ impl RenderCommand {
             rr_depth: self.rr_depth,
             strategy: self.strategy.id(),
             compensation: self.compensation.id(),
+            sampler: self.sampler.id(),
             clamp: self.clamp,
             p_env: prep.p_env,
             camera: self.frame_camera(prep, 0)?.kernel(self.width, self.height)?,
@@ -455,6 +494,9 @@ fn interrupted() -> bool {
 /// Run `host render`.
 pub fn main(cmd: RenderCommand) -> Result<()> {
     cmd.validate()?;
+    if let Some(path) = &cmd.write_scene {
+        return write_scene(&cmd, path);
+    }
     let outputs = cmd.outputs()?;
     cmd.check_outputs()?;
     let t_all = Instant::now();
@@ -548,7 +590,7 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         "backend": backend.describe(),
         "width": cmd.width, "height": cmd.height, "spp": cmd.spp, "spp_per_pass": cmd.spp_per_pass,
         "samples_per_pixel": img.spp, "interrupted": stopped, "nonfinite_pixels": nonfinite, "threads": rayon::current_num_threads(),
-        "max_depth": cmd.max_depth, "rr_depth": cmd.rr_depth, "seed": cmd.seed,
+        "max_depth": cmd.max_depth, "rr_depth": cmd.rr_depth, "seed": cmd.seed, "sampler": cmd.sampler.label(),
         "strategy": format!("{:?}", cmd.strategy).to_lowercase(), "compensation": cmd.compensation.label(),
         "clamp": cmd.clamp, "camera": prep.camera_label, "environment": prep.env.label,
         "tonemap": format!("{:?}", cmd.tonemap).to_lowercase(), "exposure": cmd.exposure,
@@ -718,4 +760,41 @@ fn export_gbuffer(cmd: &RenderCommand, path: &Path, backend: &Backend, prep: &Pr
         "rays": e.rays, "previous_frame_seconds": e.previous_seconds,
         "reference_noise_rel": e.gbuffer.reference.as_ref().and_then(|r| r.noise_rel),
     }))
+}
+
+/// `--write-scene`: the built-in scene at --detail with the camera the render would use, as
+/// glTF; nothing is rendered.
+fn write_scene(cmd: &RenderCommand, path: &Path) -> Result<()> {
+    if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf")) {
+        bail!("--write-scene {}: give a name ending in .gltf (the writer writes NAME.gltf and its buffer NAME.bin)", path.display());
+    }
+    if let Some(s) = &cmd.scene {
+        bail!("--write-scene: writes the built-in scene only; {} is already a glTF scene (omit SCENE)", s.display());
+    }
+    if cmd.gbuffer.is_some() {
+        bail!("--write-scene: renders nothing, so --gbuffer writes nothing; give one or the other");
+    }
+    crate::io::check_output_file(path)?;
+    crate::io::check_output_file(&path.with_extension("bin"))?;
+    let scene = Scene::builtin(cmd.detail);
+    let (camera, label) = pick_camera(&scene, cmd.camera.as_deref())?;
+    let (camera, label) = cmd.override_camera(camera, label)?;
+    // as frame_camera: the --orbit path's frame
+    let camera = match cmd.orbit {
+        None => camera,
+        Some(deg) => camera.orbited(scene.bounds.bounding_sphere().0, cmd.frame.unwrap_or(1) as f64 * deg),
+    };
+    camera.kernel(cmd.width, cmd.height)?;
+    if cmd.env.is_some() {
+        eprintln!("notice: --env is not written (glTF has no environment); the built-in scene has its own light");
+    }
+    super::scene::cornell_spheres_gltf(cmd.detail, Some(&camera))?.write(path).with_context(|| format!("--write-scene {}", path.display()))?;
+    eprintln!(
+        "wrote {} and {}: the built-in scene (detail {}, {} triangles), {label}",
+        path.display(),
+        path.with_extension("bin").display(),
+        cmd.detail,
+        scene.counts.triangles
+    );
+    Ok(())
 }

@@ -229,6 +229,7 @@ pub fn gltf_input(which: GltfScene, a: &BenchArgs, backend: &Backend, lut: &[f32
         rr_depth: 3,
         strategy: STRATEGY_MIS,
         compensation: crate::energy::Compensation::Turquin.id(),
+        sampler: shader_core::pt::sampler::SAMPLER_PCG,
         clamp: 0.0,
         p_env: if sc.has_lights() { 0.5 } else { 1.0 },
         camera: cam,

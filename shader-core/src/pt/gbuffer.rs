@@ -24,7 +24,8 @@
 
 use super::bvh;
 use super::camera::Camera;
-use super::integrator::{sample_rng, trace_path, RenderParams, SHADOW_EPSILON};
+use super::integrator::{trace_path, RenderParams, SHADOW_EPSILON};
+use super::sampler::Sampler;
 use super::ray::{offset_origin, Ray};
 use super::scene::{self, NONE};
 use super::surface;
@@ -326,8 +327,8 @@ pub fn gbuffer_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &GBufferParams, pi
     let one = Vec3::new(1.0, 1.0, 1.0);
     let mut s = 0;
     while s < r.spp {
-        let mut rng = sample_rng(r.seed ^ REFERENCE_SEED, pixel, r.sample_base + s);
-        let (u1, u2) = (rng.next_f32(), rng.next_f32());
+        let mut sampler = Sampler::new(r.sampler, r.seed ^ REFERENCE_SEED, pixel, r.sample_base + s);
+        let (u1, u2) = sampler.next_2d();
         s += 1;
         out.samples = out.samples + 1.0;
         let (l, w) = if sp.material.roughness == 0.0 {
@@ -347,7 +348,7 @@ pub fn gbuffer_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &GBufferParams, pi
         let ray = Ray::new(offset_origin(sp.p, sp.ng, lw), lw);
         let first = bvh::closest_hit(sc, &ray, f32::INFINITY);
         out.rays = out.rays + 1.0;
-        let li = trace_path(sc, env, lut, r, ray, &mut rng);
+        let li = trace_path(sc, env, lut, r, ray, &mut sampler);
         out.rays = out.rays + li.rays;
         let same = if first.tri == NONE {
             true

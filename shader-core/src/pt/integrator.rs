@@ -1,8 +1,9 @@
 //! Unidirectional path tracing with next-event estimation and multiple importance sampling
 //! (Veach 1997, chapter 9, the power heuristic with beta = 2; PBRT-v4 section 13.4
-//! `PathIntegrator`), Russian roulette (PBRT-v4 section 13.1.7), one PCG32 stream per pixel
-//! sample (the random numbers depend only on (seed, pixel, sample index), so a progressive render
-//! gives the same image however its samples are split into launches).
+//! `PathIntegrator`), Russian roulette (PBRT-v4 section 13.1.7), the random numbers of each pixel
+//! sample drawn from a [`Sampler`] (Owen-scrambled Sobol or PCG32; they depend only on (seed,
+//! pixel, sample index), so a progressive render gives the same image however its samples are
+//! split into launches).
 //!
 //! Estimators (`strategy`): [`STRATEGY_MIS`] combines light sampling and BSDF sampling with the
 //! power heuristic; [`STRATEGY_BSDF`] only follows BSDF samples (punctual lights, which no ray can
@@ -11,14 +12,10 @@
 //! to the same image on scenes without punctual lights.
 //!
 //! ```
-//! use shader_core::pt::integrator::{power_heuristic, sample_rng};
+//! use shader_core::pt::integrator::power_heuristic;
 //! // The power heuristic weights of two strategies sum to 1; equal densities split evenly.
 //! assert_eq!(power_heuristic(2.0, 2.0), 0.5);
 //! assert!((power_heuristic(3.0, 1.0) + power_heuristic(1.0, 3.0) - 1.0).abs() < 1e-7);
-//! // A sample's random numbers depend only on (seed, pixel, sample index).
-//! let (mut a, mut b) = (sample_rng(7, 42, 3), sample_rng(7, 42, 3));
-//! assert_eq!(a.next_u32(), b.next_u32());
-//! assert_ne!(sample_rng(7, 42, 4).next_u32(), sample_rng(7, 42, 3).next_u32());
 //! ```
 
 use super::bvh;
@@ -27,12 +24,12 @@ use super::environment;
 use super::light;
 use super::material::Material;
 use super::ray::{offset_origin, Ray};
+use super::sampler::Sampler;
 use super::scene::NONE;
 use super::surface;
 use crate::bxdf::SPECULAR;
 use crate::ieee;
 use crate::math;
-use crate::rng::{pcg_hash, Pcg32};
 use crate::vector::Vec3;
 
 /// MIS: light and BSDF sampling, power heuristic.
@@ -70,6 +67,8 @@ pub struct RenderParams {
     pub strategy: u32,
     /// Energy compensation (`shader_core::energy::COMP_*`).
     pub compensation: u32,
+    /// The random numbers: [`super::sampler::SAMPLER_SOBOL`] or [`super::sampler::SAMPLER_PCG`].
+    pub sampler: u32,
     /// Largest per-sample radiance component (0 = no clamping; clamping is biased).
     pub clamp: f32,
     /// Probability of sampling the environment in next-event estimation (the rest goes to the
@@ -144,12 +143,6 @@ fn max_component(v: Vec3) -> f32 {
     math::max(math::max(v.x, v.y), v.z)
 }
 
-/// The random stream of sample `s` of pixel `pixel`.
-#[inline]
-pub fn sample_rng(seed: u32, pixel: u32, s: u32) -> Pcg32 {
-    Pcg32::new(pcg_hash(seed ^ pcg_hash(s)), pixel)
-}
-
 /// Density with which next-event estimation picks direction `wi` towards the environment
 /// (solid angle, selection included).
 #[inline]
@@ -159,7 +152,7 @@ fn env_light_pdf(env: &[f32], p: &RenderParams, wi: Vec3) -> f32 {
 
 /// One path from a primary ray: (radiance, first-hit sums).
 #[inline]
-pub fn trace_path(sc: &[u32], env: &[f32], lut: &[f32], p: &RenderParams, primary: Ray, rng: &mut Pcg32) -> PixelSums {
+pub fn trace_path(sc: &[u32], env: &[f32], lut: &[f32], p: &RenderParams, primary: Ray, sampler: &mut Sampler) -> PixelSums {
     let mut out = PixelSums::default();
     let mut ray = primary;
     let mut beta = Vec3::new(1.0, 1.0, 1.0);
@@ -210,8 +203,8 @@ pub fn trace_path(sc: &[u32], env: &[f32], lut: &[f32], p: &RenderParams, primar
         let mat = Material::new(&sp.material, wo, lut, p.compensation);
 
         // Next-event estimation.
-        let u_sel = rng.next_f32();
-        let (u0, u1) = (rng.next_f32(), rng.next_f32());
+        let u_sel = sampler.next_1d();
+        let (u0, u1) = sampler.next_2d();
         if p.strategy != STRATEGY_BSDF && !mat.is_specular() {
             let mut ls = light::LightSample::NONE;
             let mut p_sel = 0.0;
@@ -242,8 +235,8 @@ pub fn trace_path(sc: &[u32], env: &[f32], lut: &[f32], p: &RenderParams, primar
         }
 
         // Continue the path by sampling the BSDF.
-        let uc = rng.next_f32();
-        let (b0, b1) = (rng.next_f32(), rng.next_f32());
+        let uc = sampler.next_1d();
+        let (b0, b1) = sampler.next_2d();
         let bs = mat.sample(wo, uc, b0, b1, lut);
         if !bs.is_valid() || !(bs.pdf > 0.0) {
             break;
@@ -256,7 +249,7 @@ pub fn trace_path(sc: &[u32], env: &[f32], lut: &[f32], p: &RenderParams, primar
         depth += 1;
         if depth >= p.rr_depth {
             let q = math::max(0.05, 1.0 - max_component(beta));
-            if rng.next_f32() < q {
+            if sampler.next_1d() < q {
                 break;
             }
             beta = beta / (1.0 - q);
@@ -284,10 +277,10 @@ pub fn render_pixel(sc: &[u32], env: &[f32], lut: &[f32], p: &RenderParams, pixe
     let mut sums = PixelSums::default();
     let mut s = 0;
     while s < p.spp {
-        let mut rng = sample_rng(p.seed, pixel, p.sample_base + s);
-        let (jx, jy) = (rng.next_f32(), rng.next_f32());
+        let mut sampler = Sampler::new(p.sampler, p.seed, pixel, p.sample_base + s);
+        let (jx, jy) = sampler.next_2d();
         let primary = p.camera.ray(x as f32 + jx, y as f32 + jy, p.width, p.height);
-        let r = trace_path(sc, env, lut, p, primary, &mut rng);
+        let r = trace_path(sc, env, lut, p, primary, &mut sampler);
         sums.color = sums.color + r.color;
         sums.albedo = sums.albedo + r.albedo;
         sums.normal = sums.normal + r.normal;

@@ -4,7 +4,7 @@
 //!
 //! One concept per module: [`scene`] (the flat buffer layout), [`ray`], [`triangle`] (watertight
 //! intersection), [`bvh`] (stackless traversal), [`texture`] (glTF sampling), [`surface`] (the
-//! shading point), [`camera`], [`light`] (punctual lights and emissive triangles),
+//! shading point), [`camera`], [`sampler`] (the random numbers), [`light`] (punctual lights and emissive triangles),
 //! [`environment`] (uniform or equirectangular, importance sampled), [`material`] (the glTF BxDF
 //! with energy compensation and transmission), [`integrator`] (NEE with MIS, Russian roulette),
 //! [`gbuffer`] (the SSR inputs and the path-traced glossy reflection they are judged against).
@@ -17,6 +17,7 @@ pub mod integrator;
 pub mod light;
 pub mod material;
 pub mod ray;
+pub mod sampler;
 pub mod scene;
 pub mod surface;
 pub mod texture;
