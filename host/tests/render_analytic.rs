@@ -505,3 +505,36 @@ fn sphere_integral(f: impl Fn(Vec3) -> f64) -> f64 {
     }
     sum
 }
+
+#[test]
+fn the_error_estimate_tracks_the_true_error_and_the_target_stops_the_render() {
+    // The Cornell box under a uniform sky, 32x32: PCG samples (independent halves) give an
+    // estimate within 25 % of the error against two 2048-spp references; Sobol samples' estimate
+    // is conservative (at or above the true error, within 2.5x).
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
+    let scene = Scene::load(path).unwrap();
+    let sky = env::build(&EnvSpec::Uniform([1.0; 3]), 1.0, 0.0).unwrap();
+    let cam = scene.cameras[0].clone();
+    let inputs = RenderInputs { scene: &scene.words, env: &sky.words, lut: lut() };
+    let p = |sampler: u32, seed: u32| RenderParams { sampler, ..params(&cam, 32, 32, STRATEGY_MIS, Compensation::Turquin, 1.0, 8, seed) };
+    let reference = |seed| render::render(&Backend::Cpu, &inputs, &p(SAMPLER_PCG, seed), 2048, 256, |_| {}).unwrap().0;
+    let (r1, r2) = (reference(999), reference(998));
+    for (sampler, lo, hi) in [(SAMPLER_PCG, 0.75, 1.25), (SAMPLER_SOBOL, 1.0, 2.5)] {
+        let mut estimates = Vec::new();
+        let (img, _) = render::render_until(&Backend::Cpu, &inputs, &p(sampler, 7), 64, 4, |acc| estimates.push(acc.error_estimate()), |_| false).unwrap();
+        assert_eq!(estimates[0], None, "one launch has no second half");
+        let estimate = estimates.last().unwrap().unwrap();
+        let truth = relative_rmse(&img, &r1, &r2);
+        eprintln!("sampler {sampler}: estimated relative RMSE {estimate:.4}, against the references {truth:.4}");
+        assert!(estimate >= lo * truth && estimate <= hi * truth, "sampler {sampler}: estimate {estimate} against true error {truth}");
+    }
+    // --target-error's rule: the render stops after the first launch whose estimate is at most
+    // the target, before --spp, and not earlier.
+    let target = 0.08;
+    let mut estimates = Vec::new();
+    let (img, _) = render::render_until(&Backend::Cpu, &inputs, &p(SAMPLER_SOBOL, 7), 4096, 4, |acc| estimates.push(acc.error_estimate()), |acc| acc.error_estimate().is_some_and(|e| e <= target)).unwrap();
+    assert!(img.spp < 4096, "the target was never reached");
+    assert!(estimates.last().unwrap().unwrap() <= target);
+    assert!(estimates[..estimates.len() - 1].iter().all(|e| e.is_none_or(|e| e > target)), "it ran past the first launch under the target: {estimates:?}");
+    assert!(relative_rmse(&img, &r1, &r2) <= target, "the image's true error is above the target");
+}

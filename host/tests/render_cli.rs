@@ -88,6 +88,9 @@ fn bad_options_are_named() {
         (&["--exposure", "nan"], "--exposure"),
         (&["--env-scale", "inf"], "--env-scale"),
         (&["--sampler", "halton"], "--sampler"),
+        (&["--target-error", "0"], "--target-error"),
+        (&["--target-error", "nan"], "--target-error"),
+        (&["--time-limit=-1"], "--time-limit"),
         (&["--camera", "nosuch"], "built-in scene has one camera"),
         (&["--width", "16384", "--height", "16384"], "2^26"),
         (&["--strategy", "guess"], "guess"),
@@ -424,4 +427,34 @@ fn camera_overrides_steer_the_view() {
         assert!(!ok, "{extra:?} was accepted");
         assert!(e.contains(want), "{extra:?}: {e}");
     }
+}
+
+#[test]
+fn target_error_and_time_limit_stop_the_render_and_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t.exr");
+    let o = out.to_str().unwrap();
+    let a = host(&["render", CORNELL, "--device", "cpu", "--width", "16", "--height", "16", "--spp", "100000", "--spp-per-pass", "2", "--target-error", "0.2", "--quiet", "-o", o]);
+    assert!(a.status.success(), "{}", stderr(&a));
+    assert!(stderr(&a).contains("stopped by --target-error"), "{}", stderr(&a));
+    let j = json_of(&out.with_extension("json"));
+    assert_eq!(j["stopped_by"], "target-error");
+    assert_eq!(j["interrupted"], false);
+    let spp = j["samples_per_pixel"].as_u64().unwrap();
+    assert!(spp < 100_000 && spp >= 4, "{spp} spp");
+    assert!(j["error_estimate"].as_f64().unwrap() <= 0.2, "{j}");
+    // The same command stops at the same sample count with the same image.
+    let b = host(&["render", CORNELL, "--device", "cpu", "--width", "16", "--height", "16", "--spp", "100000", "--spp-per-pass", "2", "--target-error", "0.2", "--quiet", "-o", o]);
+    assert_eq!(digest(&a), digest(&b));
+    assert_eq!(json_of(&out.with_extension("json"))["samples_per_pixel"].as_u64().unwrap(), spp);
+    // A time limit stops after the launch that reaches it.
+    let c = host(&["render", CORNELL, "--device", "cpu", "--width", "32", "--height", "32", "--spp", "1000000", "--time-limit", "0.5", "--quiet", "-o", o]);
+    assert!(c.status.success(), "{}", stderr(&c));
+    let j = json_of(&out.with_extension("json"));
+    assert_eq!(j["stopped_by"], "time-limit");
+    assert!(j["samples_per_pixel"].as_u64().unwrap() < 1_000_000);
+    // Without either, --spp ends it.
+    let d = host(&["render", CORNELL, "--device", "cpu", "--width", "8", "--height", "8", "--spp", "4", "--quiet", "-o", o]);
+    assert!(d.status.success(), "{}", stderr(&d));
+    assert_eq!(json_of(&out.with_extension("json"))["stopped_by"], "spp");
 }

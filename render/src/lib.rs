@@ -51,7 +51,8 @@ pub fn launch(backend: &Backend, inputs: &RenderInputs<'_>, p: &RenderParams) ->
     backend.run(&PT_RENDER, Launch::new(RenderArgs::new(p), &inputs.bindings()), pixels, OUT_STRIDE)
 }
 
-/// The running per-pixel sums of a progressive render.
+/// The running per-pixel sums of a progressive render, and the radiance sums of every second
+/// launch apart (the "half buffer" of the error estimate, [`Accumulator::error_estimate`]).
 #[derive(Clone, Debug)]
 pub struct Accumulator {
     /// Image width.
@@ -62,12 +63,19 @@ pub struct Accumulator {
     pub spp: u32,
     /// `OUT_STRIDE` sums per pixel.
     pub sums: Vec<f32>,
+    /// Launches added so far.
+    pub launches: u32,
+    /// Radiance sums (RGB per pixel) of the odd-numbered launches (the second, fourth, ...).
+    pub odd: Vec<f32>,
+    /// Samples per pixel in `odd`.
+    pub odd_spp: u32,
 }
 
 impl Accumulator {
     /// Empty sums for a `width x height` image.
     pub fn new(width: u32, height: u32) -> Accumulator {
-        Accumulator { width, height, spp: 0, sums: vec![0.0; width as usize * height as usize * OUT_STRIDE] }
+        let n = width as usize * height as usize;
+        Accumulator { width, height, spp: 0, sums: vec![0.0; n * OUT_STRIDE], launches: 0, odd: vec![0.0; n * 3], odd_spp: 0 }
     }
 
     /// Add one launch's output of `spp` samples.
@@ -76,7 +84,43 @@ impl Accumulator {
         for (s, v) in self.sums.iter_mut().zip(out) {
             *s += *v;
         }
+        if self.launches % 2 == 1 {
+            for (i, h) in self.odd.chunks_exact_mut(3).enumerate() {
+                let c = PixelSums::load(out, i * OUT_STRIDE).color;
+                h[0] += c.x;
+                h[1] += c.y;
+                h[2] += c.z;
+            }
+            self.odd_spp += spp;
+        }
+        self.launches += 1;
         self.spp += spp;
+    }
+
+    /// Estimated relative RMSE of the mean image so far, from its two halves (the even and the
+    /// odd launches' samples, means a and b over n_a and n_b samples): sqrt(mean (a - b)^2
+    /// n_a n_b / (n_a + n_b)^2) / mean of the image, means over pixels and RGB channels, in f64
+    /// (for independent samples the expected square of a - b is Var (1/n_a + 1/n_b), so this is
+    /// the image's standard error relative to its mean; with Sobol samples, stratified across the
+    /// halves, it overestimates). None before two launches, or when the image's mean is not
+    /// positive and finite.
+    pub fn error_estimate(&self) -> Option<f64> {
+        let (na, nb) = ((self.spp - self.odd_spp) as f64, self.odd_spp as f64);
+        if na == 0.0 || nb == 0.0 {
+            return None;
+        }
+        let (mut d2, mut m) = (0.0f64, 0.0f64);
+        let n = self.odd.len() as f64;
+        for (i, h) in self.odd.chunks_exact(3).enumerate() {
+            let all = PixelSums::load(&self.sums, i * OUT_STRIDE).color;
+            for (t, b) in [all.x, all.y, all.z].into_iter().zip(h) {
+                let (t, b) = (t as f64, *b as f64);
+                d2 += ((t - b) / na - b / nb).powi(2) / n;
+                m += t / (na + nb) / n;
+            }
+        }
+        let e = (d2 * na * nb).sqrt() / (na + nb) / m;
+        (m > 0.0 && e.is_finite()).then_some(e)
     }
 
     /// The mean image so far.
@@ -147,23 +191,27 @@ pub fn digest<'a>(values: impl IntoIterator<Item = &'a f32>) -> u64 {
 
 /// Render `total_spp` samples per pixel in launches of at most `spp_per_pass`, calling
 /// `progress(samples done)` after each launch. Returns the image and the summed launch time.
-pub fn render(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, progress: impl FnMut(u32)) -> Result<(RenderImage, Timing)> {
-    render_until(backend, inputs, base, total_spp, spp_per_pass, progress, || false)
+pub fn render(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, mut progress: impl FnMut(u32)) -> Result<(RenderImage, Timing)> {
+    render_until(backend, inputs, base, total_spp, spp_per_pass, |acc| progress(acc.spp), |_| false)
 }
 
-/// [`render`], stopping early when `stop()` is true after a launch (at least one launch runs, so
-/// the image holds samples): the image then holds the samples of the launches done
-/// ([`RenderImage::spp`] of them in every pixel).
-pub fn render_until(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, mut progress: impl FnMut(u32), stop: impl Fn() -> bool) -> Result<(RenderImage, Timing)> {
+/// [`render`], with `progress` given the sums after each launch and stopping early when
+/// `stop(sums)` is true after a launch (at least one launch runs, so the image holds samples):
+/// the image then holds the samples of the launches done ([`RenderImage::spp`] of them in every
+/// pixel). A stop rule that reads only the sums (e.g. [`Accumulator::error_estimate`] against a
+/// target) stops at the same launch on every backend.
+pub fn render_until(backend: &Backend, inputs: &RenderInputs<'_>, base: &RenderParams, total_spp: u32, spp_per_pass: u32, mut progress: impl FnMut(&Accumulator), mut stop: impl FnMut(&Accumulator) -> bool) -> Result<(RenderImage, Timing)> {
     if total_spp == 0 || spp_per_pass == 0 {
         bail!("spp and spp per pass must be at least 1");
     }
     let mut acc = Accumulator::new(base.width, base.height);
-    let (_, time) = runner::in_launches(total_spp, spp_per_pass, stop, |first, n| {
+    let done = std::cell::Cell::new(false);
+    let (_, time) = runner::in_launches(total_spp, spp_per_pass, || done.get(), |first, n| {
         let p = RenderParams { spp: n, sample_base: base.sample_base + first, ..*base };
         let (out, t) = launch(backend, inputs, &p).with_context(|| format!("render launch at sample {first}"))?;
         acc.add(&out, n);
-        progress(acc.spp);
+        progress(&acc);
+        done.set(stop(&acc));
         Ok(t)
     })?;
     Ok((acc.image(), time))

@@ -239,7 +239,7 @@ pub fn export_frame(backend: &Backend, inputs: &RenderInputs<'_>, spec: &FrameSp
             let p = RenderParams { camera: spec.previous, ..spec.params };
             progress.start("previous frame", spec.spp);
             let stop = progress.stop_check();
-            let r = render::render_until(backend, inputs, &p, spec.spp, spec.spp_per_pass, |d| progress.update(d), stop);
+            let r = render::render_until(backend, inputs, &p, spec.spp, spec.spp_per_pass, |acc| progress.update(acc.spp), |_| stop());
             progress.finish();
             r?.0.color
         }

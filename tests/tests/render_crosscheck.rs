@@ -1,6 +1,6 @@
 //! The path tracer CPU vs GPU (0 ULP): every pixel of the radiance and of every AOV, on the
 //! built-in scene for every estimator and compensation mode (Sobol samples) and with PCG samples, on the Cornell box of `scenes/cornell_box/` over
-//! several progressive launches, and on a test-made scene with textures, a normal map, an alpha
+//! several progressive launches (and stopped by an error target), and on a test-made scene with textures, a normal map, an alpha
 //! mask, transmission, punctual lights and an environment map; the G-buffer / SSR reference
 //! kernel (`render::pt_gbuffer`) on the Cornell box and the feature scene over progressive
 //! launches.
@@ -85,6 +85,14 @@ fn cornell_box_progressive_launches() {
     let inputs = RenderInputs { scene: &scene.words, env: &sky.words, lut: &lut };
     let p = params(&scene, 32, 32, STRATEGY_MIS, Compensation::Turquin.id(), 1.0);
     both("cornell box", gpu, &inputs, &p, 3, 1);
+    // --target-error's stop rule reads only the sums: both backends stop after the same launch
+    // with the same image.
+    let p = params(&scene, 16, 16, STRATEGY_MIS, Compensation::Turquin.id(), 1.0);
+    let until = |b: &Backend| render::render_until(b, &inputs, &p, 256, 2, |_| {}, |acc| acc.error_estimate().is_some_and(|e| e <= 0.2)).unwrap().0;
+    let (c, g) = (until(&Backend::Cpu), until(gpu));
+    assert!(c.spp < 256, "the target error was not reached");
+    assert_eq!(c.spp, g.spp, "the backends stopped at different sample counts");
+    compare("cornell box, stopped at --target-error 0.2", &c, &g);
 }
 
 /// A quad floor with a checker base-colour texture, a bumpy normal map and a masked cut-out, a

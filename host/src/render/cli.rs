@@ -166,8 +166,20 @@ pub struct RenderCommand {
     /// Threads of the CPU backend (default: one per core). Refused when the GPU backend runs.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub threads: Option<u32>,
+    /// Stop once the estimated relative RMSE of the image is at most this (after a launch, from
+    /// two at least; --spp stays the most it renders). The estimate compares the even and the odd
+    /// launches' samples (`render::Accumulator::error_estimate`; conservative with Sobol samples)
+    /// and reads only the image's sums, so the render stops at the same sample count on every
+    /// backend. Within [1e-5, 1].
+    #[arg(long, value_parser = crate::cli_args::f32_in(1e-5, 1.0))]
+    pub target_error: Option<f32>,
+    /// Stop after the launch that reaches this many seconds of rendering (--spp stays the most it
+    /// renders); every pixel holds the same number of samples. Unlike --target-error, where it
+    /// stops depends on the machine's speed. Within [0.001, 31536000].
+    #[arg(long, value_parser = crate::cli_args::f32_in(0.001, 31_536_000.0))]
+    pub time_limit: Option<f32>,
     /// When stderr is not a terminal: seconds between progress lines (samples done, rate,
-    /// time left); 0 = a line after every launch.
+    /// time left, error estimate); 0 = a line after every launch.
     #[arg(long, default_value_t = 5.0, value_parser = crate::cli_args::f32_in(0.0, 86400.0))]
     pub progress_every: f32,
     /// Also write the SSR inputs of this view: the G-buffer EXR `host ssr --input` reads (with
@@ -533,11 +545,42 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     let t_render = Instant::now();
     let mut bar = Bar::new(&cmd);
     bar.start("rendering", cmd.spp);
-    let rendered = super::render_until(&backend, &inputs, &params, cmd.spp, cmd.spp_per_pass, |d| bar.update(d), interrupted);
+    let mut error_estimate = None;
+    let mut stop_rule = "spp";
+    let rendered = super::render_until(
+        &backend,
+        &inputs,
+        &params,
+        cmd.spp,
+        cmd.spp_per_pass,
+        |acc| {
+            error_estimate = acc.error_estimate();
+            bar.error = error_estimate;
+            bar.update(acc.spp)
+        },
+        |acc| {
+            if interrupted() {
+                stop_rule = "interrupt";
+            } else if cmd.target_error.is_some_and(|t| acc.error_estimate().is_some_and(|e| e <= t as f64)) {
+                stop_rule = "target-error";
+            } else if cmd.time_limit.is_some_and(|t| t_render.elapsed().as_secs_f64() >= t as f64) {
+                stop_rule = "time-limit";
+            }
+            stop_rule != "spp"
+        },
+    );
     bar.finish();
     let (img, time) = rendered?;
+    if stop_rule == "target-error" || stop_rule == "time-limit" {
+        eprintln!(
+            "stopped by --{stop_rule} at {} of {} spp (estimated relative RMSE {})",
+            img.spp,
+            cmd.spp,
+            error_estimate.map(|e| format!("{e:.4}")).unwrap_or_else(|| "not yet known".into())
+        );
+    }
     // a Ctrl-C after the last launch still skips the --gbuffer stage below
-    let stopped = img.spp < cmd.spp || interrupted();
+    let stopped = stop_rule == "interrupt" || interrupted();
     let mut warnings: Vec<String> = s.warnings.iter().chain(&prep.notices).cloned().collect();
     let wall = t_render.elapsed().as_secs_f64();
     let compile = backend.compile_seconds(&shader_kernels::render::PT_RENDER);
@@ -547,7 +590,7 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         cmd.width,
         cmd.height,
         img.spp,
-        if stopped { format!(" (interrupted: {} of {} spp)", img.spp, cmd.spp) } else { String::new() },
+        if stopped && img.spp < cmd.spp { format!(" (interrupted: {} of {} spp)", img.spp, cmd.spp) } else { String::new() },
         time.seconds,
         time.source,
         wall,
@@ -585,7 +628,7 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     let (png, json) = (outputs.png.clone(), outputs.json.clone());
     set.stage(&[&outputs.exr], |t| super::write_exr(t, &img))?;
     set.stage(&[&png], |t| crate::io::write_png(t, &super::preview(img.width, img.height, &img.color, cmd.exposure, cmd.tonemap)))?;
-    let summary = serde_json::json!({
+    let mut summary = serde_json::json!({
         "scene": cmd.scene.as_ref().map(|p| p.display().to_string()),
         "backend": backend.describe(),
         "width": cmd.width, "height": cmd.height, "spp": cmd.spp, "spp_per_pass": cmd.spp_per_pass,
@@ -601,6 +644,11 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
         "digest": format!("{digest:016x}"), "warnings": warnings, "total_seconds": t_all.elapsed().as_secs_f64(),
         "orbit_degrees_per_frame": cmd.orbit, "frame": cmd.orbit.map(|_| cmd.frame.unwrap_or(1)), "gbuffer": gbuffer,
     });
+    // What ended the render and the error estimate (the json! macro takes no more keys).
+    summary["stopped_by"] = serde_json::json!(if stopped { "interrupt" } else { stop_rule });
+    summary["target_error"] = serde_json::json!(cmd.target_error);
+    summary["time_limit"] = serde_json::json!(cmd.time_limit);
+    summary["error_estimate"] = serde_json::json!(error_estimate);
     let text = serde_json::to_string_pretty(&summary)? + "\n";
     set.stage(&[&json], |t| Ok(std::fs::write(t, &text)?))?;
     let written = set.commit()?;
@@ -632,6 +680,8 @@ struct Bar {
     what: String,
     t0: Instant,
     bar: indicatif::ProgressBar,
+    /// The render's error estimate after the last launch (shown in the progress).
+    error: Option<f64>,
 }
 
 impl Bar {
@@ -647,6 +697,7 @@ impl Bar {
             what: String::new(),
             t0: Instant::now(),
             bar: indicatif::ProgressBar::hidden(),
+            error: None,
         }
     }
 }
@@ -690,9 +741,11 @@ impl super::gbuffer::Progress for Bar {
         let dt = self.t0.elapsed().as_secs_f64();
         if self.lines && !self.quiet && done < self.total && dt - self.last_line >= self.every {
             self.last_line = dt;
-            eprintln!("{}", progress_line(&self.what, done, self.total, dt, self.pixels));
+            let error = self.error.map(|e| format!(", error ~{e:.4}")).unwrap_or_default();
+            eprintln!("{}{error}", progress_line(&self.what, done, self.total, dt, self.pixels));
         }
-        self.bar.set_message(format!("{}: {:.2} M samples/s", self.what, done as f64 * self.pixels / dt.max(1e-9) / 1e6));
+        let error = self.error.map(|e| format!(", error ~{e:.4}")).unwrap_or_default();
+        self.bar.set_message(format!("{}: {:.2} M samples/s{error}", self.what, done as f64 * self.pixels / dt.max(1e-9) / 1e6));
     }
     fn finish(&mut self) {
         self.bar.finish_and_clear();

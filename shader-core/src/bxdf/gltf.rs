@@ -190,9 +190,15 @@ impl GltfMetalRoughBxDF {
             return (Vec3::ZERO, 0.0);
         }
         let (d, s) = self.lobes(wo, wi);
+        (d + s, self.mixture_pdf(wo, wi))
+    }
+
+    /// Density of the lobe mixture that `sample_f` draws from, for unit wo, wi on the same side:
+    /// p_s D_vis(wm) / (4 |wo.wm|) + (1 - p_s) |cos theta_i| / pi, p_s = `specular_probability(wo)`.
+    #[inline]
+    fn mixture_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let ps = self.specular_probability(wo);
-        let pdf = ps * self.specular_pdf(wo, wi) + (1.0 - ps) * warp::cosine_hemisphere_pdf(wi.z.abs());
-        (d + s, pdf)
+        ps * self.specular_pdf(wo, wi) + (1.0 - ps) * warp::cosine_hemisphere_pdf(wi.z.abs())
     }
 }
 
@@ -258,9 +264,9 @@ impl BxDF for GltfMetalRoughBxDF {
         }
         let wo = unit_or_zero(wo);
         let wi = unit_or_zero(wi);
-        if sample_flags & SAMPLE_REFLECTION == 0 {
+        if sample_flags & SAMPLE_REFLECTION == 0 || !same_hemisphere(wo, wi) {
             return 0.0;
         }
-        self.f_pdf(wo, wi).1
+        self.mixture_pdf(wo, wi)
     }
 }
