@@ -441,7 +441,7 @@ fn target_error_and_time_limit_stop_the_render_and_say_so() {
     assert_eq!(j["stopped_by"], "target-error");
     assert_eq!(j["interrupted"], false);
     let spp = j["samples_per_pixel"].as_u64().unwrap();
-    assert!(spp < 100_000 && spp >= 4, "{spp} spp");
+    assert!((4..100_000).contains(&spp), "{spp} spp");
     assert!(j["error_estimate"].as_f64().unwrap() <= 0.2, "{j}");
     // The same command stops at the same sample count with the same image.
     let b = host(&["render", CORNELL, "--device", "cpu", "--width", "16", "--height", "16", "--spp", "100000", "--spp-per-pass", "2", "--target-error", "0.2", "--quiet", "-o", o]);
