@@ -848,6 +848,16 @@ fn spec_bounds_are_refused_naming_the_json_path() {
             let last = v["accessors"].as_array().unwrap().len() - 1;
             v["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = json!(last);
         }), "meshes[0].primitives[0].attributes."),
+        ("imgboth", Box::new(|v: &mut Value| v["images"] = json!([{"uri": "x.png", "bufferView": 0}])), "images[0]: has both"),
+        ("imgnone", Box::new(|v: &mut Value| v["images"] = json!([{"name": "nothing"}])), "images[0]: has neither"),
+        ("imgmime", Box::new(|v: &mut Value| v["images"] = json!([{"bufferView": 0}])), "images[0].mimeType"),
+        ("imggif", Box::new(|v: &mut Value| v["images"] = json!([{"uri": "x.gif", "mimeType": "image/gif"}])), "images[0].mimeType"),
+        ("texcoord", Box::new(|v: &mut Value| {
+            v["images"] = json!([{"uri": "x.png"}]);
+            v["textures"] = json!([{"source": 0}]);
+            v["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 3}}}]);
+            v["meshes"][0]["primitives"][0]["material"] = json!(0);
+        }), "meshes[0].primitives[0].attributes: no TEXCOORD_3"),
         ("stride", Box::new(|v: &mut Value| v["bufferViews"][0]["byteStride"] = json!(6)), "bufferViews[0].byteStride"),
         ("viewlen", Box::new(|v: &mut Value| v["bufferViews"][0]["byteLength"] = json!(1_000_000)), "bufferViews[0].byteLength"),
         ("accoff", Box::new(|v: &mut Value| v["accessors"][0]["byteOffset"] = json!(2)), "accessors[0].byteOffset"),

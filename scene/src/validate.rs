@@ -22,6 +22,11 @@
 //!   0 <= `innerConeAngle` < `outerConeAngle` <= pi/2;
 //! - cameras: perspective `yfov` in (0, pi), `znear` > 0, `zfar` > `znear`, `aspectRatio` > 0;
 //!   orthographic `xmag`, `ymag` finite and non-zero, 0 <= `znear` < `zfar`;
+//! - images: a `uri` or a `bufferView`, not both; a `bufferView` image has a `mimeType`;
+//!   `mimeType` `image/png` or `image/jpeg`;
+//! - texture coordinates: every primitive has the `TEXCOORD_n` attribute that each texture of
+//!   its material reads (`texCoord` n; glTF 2.0 section 5.22 "A mesh primitive MUST have the
+//!   corresponding texture coordinate attributes");
 //! - nodes: `matrix`, `translation`, `scale` finite; `rotation` a unit quaternion; not both a
 //!   `matrix` and TRS; the hierarchy a forest (no node with two parents, no cycle, scene roots
 //!   without a parent, no node twice in a scene's `nodes`).
@@ -89,7 +94,71 @@ pub fn check(root: &json::Root) -> Faults {
     lights(root, &mut f);
     cameras(root, &mut f);
     nodes(root, &mut f);
+    images(root, &mut f);
+    texture_coordinates(root, &mut f);
     f
+}
+
+/// Images: one source, and a MIME type the specification allows (glTF 2.0 section 5.17).
+fn images(root: &json::Root, f: &mut Faults) {
+    for (i, im) in root.images.iter().enumerate() {
+        let at = format!("images[{i}]");
+        match (&im.uri, &im.buffer_view) {
+            (Some(_), Some(_)) => f.add(at.clone(), "has both a uri and a bufferView: give one"),
+            (None, None) => f.add(at.clone(), "has neither a uri nor a bufferView"),
+            (None, Some(_)) if im.mime_type.is_none() => f.add(format!("{at}.mimeType"), "missing: an image in a bufferView needs image/png or image/jpeg"),
+            _ => {}
+        }
+        if let Some(m) = &im.mime_type {
+            if m.0 != "image/png" && m.0 != "image/jpeg" {
+                f.add(format!("{at}.mimeType"), format!("{:?}: must be image/png or image/jpeg", m.0));
+            }
+        }
+    }
+}
+
+/// The texture infos of a material: (JSON path below the material, texCoord).
+fn texture_infos(m: &json::Material) -> Vec<(&'static str, u32)> {
+    let pbr = &m.pbr_metallic_roughness;
+    let mut v = Vec::new();
+    if let Some(t) = &pbr.base_color_texture {
+        v.push(("pbrMetallicRoughness.baseColorTexture", t.tex_coord));
+    }
+    if let Some(t) = &pbr.metallic_roughness_texture {
+        v.push(("pbrMetallicRoughness.metallicRoughnessTexture", t.tex_coord));
+    }
+    if let Some(t) = &m.normal_texture {
+        v.push(("normalTexture", t.tex_coord));
+    }
+    if let Some(t) = &m.occlusion_texture {
+        v.push(("occlusionTexture", t.tex_coord));
+    }
+    if let Some(t) = &m.emissive_texture {
+        v.push(("emissiveTexture", t.tex_coord));
+    }
+    if let Some(t) = m.extensions.as_ref().and_then(|e| e.transmission.as_ref()).and_then(|t| t.transmission_texture.as_ref()) {
+        v.push(("extensions.KHR_materials_transmission.transmissionTexture", t.tex_coord));
+    }
+    v
+}
+
+/// Every texture a primitive's material reads has its `TEXCOORD_n` on the primitive.
+fn texture_coordinates(root: &json::Root, f: &mut Faults) {
+    use json::mesh::Semantic as S;
+    use json::validation::Checked;
+    for (mi, mesh) in root.meshes.iter().enumerate() {
+        for (pi, p) in mesh.primitives.iter().enumerate() {
+            let Some(k) = p.material.map(|m| m.value()).filter(|&k| k < root.materials.len()) else { continue };
+            for (slot, n) in texture_infos(&root.materials[k]) {
+                if !p.attributes.contains_key(&Checked::Valid(S::TexCoords(n))) {
+                    f.add(
+                        format!("meshes[{mi}].primitives[{pi}].attributes"),
+                        format!("no TEXCOORD_{n}, which materials[{k}].{slot} reads (texCoord {n}): the primitive must have it"),
+                    );
+                }
+            }
+        }
+    }
 }
 
 /// Whether `v` is "2" or "2.<digits>" (the major version the loader implements).
