@@ -91,6 +91,8 @@ fn bad_options_are_named() {
         (&["--target-error", "0"], "--target-error"),
         (&["--target-error", "nan"], "--target-error"),
         (&["--time-limit=-1"], "--time-limit"),
+        (&["--adaptive-threshold", "0"], "--adaptive-threshold"),
+        (&["--adaptive-min-spp", "1"], "--adaptive-min-spp"),
         (&["--camera", "nosuch"], "built-in scene has one camera"),
         (&["--width", "16384", "--height", "16384"], "2^26"),
         (&["--strategy", "guess"], "guess"),
@@ -537,4 +539,30 @@ fn write_scene_refuses_other_formats_and_scene_files() {
     let o = host(&["render", cornell, "--write-scene", dir.path().join("c.gltf").to_str().unwrap()]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("built-in scene only"), "{}", stderr(&o));
+}
+
+#[test]
+fn adaptive_sampling_stops_converged_pixels_and_records_their_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.exr");
+    let o = out.to_str().unwrap();
+    let args = ["render", CORNELL, "--device", "cpu", "--width", "32", "--height", "32", "--spp", "256", "--spp-per-pass", "4", "--adaptive-threshold", "0.1", "--adaptive-min-spp", "8", "--quiet", "-o", o];
+    let a = host(&args);
+    assert!(a.status.success(), "{}", stderr(&a));
+    let j = json_of(&out.with_extension("json"));
+    let ad = &j["adaptive"];
+    assert!(ad["pixels_stopped_early"].as_u64().unwrap() > 0, "{ad}");
+    assert!(ad["mean_spp"].as_f64().unwrap() < 256.0, "{ad}");
+    assert_eq!(ad["min_spp"], 8);
+    let exr = host::io::read_exr(&out).unwrap();
+    let counts = exr.channel("samples.Y").unwrap();
+    assert!(counts.iter().all(|&c| (8.0..=256.0).contains(&c)), "sample counts outside [8, 256]");
+    assert!(counts.iter().any(|&c| c < 256.0));
+    // Reproducible: the same stops, the same image.
+    assert_eq!(digest(&a), digest(&host(&args)));
+    // Without it every pixel holds --spp samples and the EXR has no sample-count channel.
+    let b = host(&["render", CORNELL, "--device", "cpu", "--width", "8", "--height", "8", "--spp", "4", "--quiet", "-o", o]);
+    assert!(b.status.success(), "{}", stderr(&b));
+    assert!(host::io::read_exr(&out).unwrap().channel("samples.Y").is_err());
+    assert!(json_of(&out.with_extension("json"))["adaptive"].is_null());
 }

@@ -3,10 +3,11 @@
 //! [`pt_render`] and [`pt_gbuffer`] and by the CPU launcher.
 //!
 //! Bindings: 0 = [`RenderArgs`], 1 = scene words (`shader_core::pt::scene`), 2 = environment
-//! (`shader_core::pt::environment`), 3 = energy LUT (`shader_core::energy`), 4 = output,
-//! [`OUT_STRIDE`] floats per pixel of the launch: radiance sum RGB, albedo sum RGB, normal sum
-//! XYZ, depth sum, rays traced. [`pt_gbuffer`] binds [`GBufferArgs`] at 0 and writes
-//! [`GBUFFER_STRIDE`] floats per pixel (see [`gbuffer_pixel`]).
+//! (`shader_core::pt::environment`), 3 = energy LUT (`shader_core::energy`), 4 = pixel list
+//! (read when [`RenderArgs::pixel_list`] is 1: adaptive sampling launches only the pixels still
+//! sampled), 5 = output, [`OUT_STRIDE`] floats per invocation: radiance sum RGB, albedo sum RGB,
+//! normal sum XYZ, depth sum, rays traced. [`pt_gbuffer`] binds [`GBufferArgs`] at 0, no pixel
+//! list, and writes [`GBUFFER_STRIDE`] floats per pixel (see [`gbuffer_pixel`]) at 4.
 
 use shader_core::pt::gbuffer::{self, GBufferParams, GBufferPixel};
 use shader_core::pt::integrator::{render_pixel, PixelSums, RenderParams};
@@ -18,7 +19,8 @@ pub const OUT_STRIDE: usize = PixelSums::WORDS;
 
 /// The launch record of [`pt_render`], shared by the host and the kernel (`#[repr(C)]`, all
 /// 4-byte fields): the launch fields the launcher fills, then the integrator's parameters as
-/// they are. Invocation `i` renders pixel `first_pixel + i` and writes `out[OUT_STRIDE i..]`.
+/// they are. Invocation `i` renders pixel `first_pixel + i` (or, with `pixel_list` 1, pixel
+/// `pixels[first_pixel + i]`) and writes `out[OUT_STRIDE i..]`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(not(target_arch = "spirv"), derive(bytemuck::Pod, bytemuck::Zeroable))]
@@ -27,10 +29,10 @@ pub struct RenderArgs {
     pub invocations: u32,
     /// Workgroups in x of the 2D dispatch.
     pub groups_x: u32,
-    /// Pixel of invocation 0.
+    /// Pixel of invocation 0 (with `pixel_list` 1: the list entry of invocation 0).
     pub first_pixel: u32,
-    /// Unused (keeps the parameters 16-byte aligned in the buffer).
-    pub pad: u32,
+    /// 0: invocations render consecutive pixels; 1: they render the pixels the list names.
+    pub pixel_list: u32,
     /// The integrator's parameters.
     pub params: RenderParams,
 }
@@ -42,10 +44,13 @@ impl RenderArgs {
     }
 }
 
-/// Invocation `i` of a launch: renders pixel `first_pixel + i` into `out[OUT_STRIDE i..]`.
+/// Invocation `i` of a launch: renders pixel `first_pixel + i` (or `pixels[first_pixel + i]`
+/// with a pixel list) into `out[OUT_STRIDE i..]`.
 #[inline]
-pub fn pixel(i: u32, args: &RenderArgs, scene: &[u32], env: &[f32], lut: &[f32], out: &mut [f32]) {
-    render_pixel(scene, env, lut, &args.params, args.first_pixel + i).store(out, i as usize * OUT_STRIDE);
+pub fn pixel(i: u32, args: &RenderArgs, scene: &[u32], env: &[f32], lut: &[f32], pixels: &[u32], out: &mut [f32]) {
+    let k = args.first_pixel + i;
+    let px = if args.pixel_list != 0 { shader_core::buffer::load_u32(pixels, k as usize) } else { k };
+    render_pixel(scene, env, lut, &args.params, px).store(out, i as usize * OUT_STRIDE);
 }
 
 /// Entry point of [`pixel`].
@@ -56,11 +61,12 @@ pub fn pt_render(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] scene: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] env: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] lut: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] out: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] pixels: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] out: &mut [f32],
 ) {
     let a = *args;
     if let Some(i) = crate::invocation_index(id, a.invocations, a.groups_x) {
-        pixel(i, &a, scene, env, lut, out);
+        pixel(i, &a, scene, env, lut, pixels, out);
     }
 }
 
@@ -115,7 +121,7 @@ pub fn pt_gbuffer(
 }
 
 /// The host's declarations of [`pt_render`] and [`pt_gbuffer`] (`crate::launch`). Bindings:
-/// scene words, environment, energy LUT.
+/// scene words, environment, energy LUT (and [`pt_render`]'s pixel list).
 #[cfg(not(target_arch = "spirv"))]
 mod declarations {
     use super::*;
@@ -124,7 +130,7 @@ mod declarations {
     /// [`pt_render`]: one pixel's [`OUT_STRIDE`] values per invocation.
     pub const PT_RENDER: Kernel<ItemFn<RenderArgs>> = Kernel {
         entry: "render::pt_render",
-        cpu: |a, b, i, out| pixel(0, &RenderArgs { first_pixel: a.first_pixel + i, ..*a }, b.u32(0), b.f32(1), b.f32(2), out),
+        cpu: |a, b, i, out| pixel(0, &RenderArgs { first_pixel: a.first_pixel + i, ..*a }, b.u32(0), b.f32(1), b.f32(2), b.u32(3), out),
     };
 
     /// [`pt_gbuffer`]: one pixel's [`GBUFFER_STRIDE`] values per invocation.

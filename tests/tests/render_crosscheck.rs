@@ -1,6 +1,6 @@
 //! The path tracer CPU vs GPU (0 ULP): every pixel of the radiance and of every AOV, on the
 //! built-in scene for every estimator and compensation mode (Sobol samples) and with PCG samples, on the Cornell box of `scenes/cornell_box/` over
-//! several progressive launches (and stopped by an error target), and on a test-made scene with textures, a normal map, an alpha
+//! several progressive launches (stopped by an error target, and with adaptive sampling's pixel lists), and on a test-made scene with textures, a normal map, an alpha
 //! mask, transmission, punctual lights and an environment map; the G-buffer / SSR reference
 //! kernel (`render::pt_gbuffer`) on the Cornell box and the feature scene over progressive
 //! launches.
@@ -93,6 +93,13 @@ fn cornell_box_progressive_launches() {
     assert!(c.spp < 256, "the target error was not reached");
     assert_eq!(c.spp, g.spp, "the backends stopped at different sample counts");
     compare("cornell box, stopped at --target-error 0.2", &c, &g);
+    // Adaptive sampling: the same pixels stop after the same launches (pixel lists launched).
+    let rule = render::Adaptive { threshold: 0.15, min_spp: 4 };
+    let adaptive = |b: &Backend| render::render_adaptive(b, &inputs, &p, 64, 2, Some(rule), |_| {}, |_| false).unwrap().0;
+    let (c, g) = (adaptive(&Backend::Cpu), adaptive(gpu));
+    assert!(c.pixel_spp.iter().any(|&n| n < 64), "no pixel stopped early");
+    assert_eq!(c.pixel_spp, g.pixel_spp, "the backends stopped different pixels");
+    compare("cornell box, adaptive sampling", &c, &g);
 }
 
 /// A quad floor with a checker base-colour texture, a bumpy normal map and a masked cut-out, a

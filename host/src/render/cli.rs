@@ -173,6 +173,16 @@ pub struct RenderCommand {
     /// backend. Within [1e-5, 1].
     #[arg(long, value_parser = crate::cli_args::f32_in(1e-5, 1.0))]
     pub target_error: Option<f32>,
+    /// Adaptive sampling: after each launch, stop sampling every pixel whose standard error
+    /// (from two halves of its samples) is at most this fraction of the image's mean radiance,
+    /// once it has --adaptive-min-spp samples and its 8 neighbours are under it too; the next
+    /// launches render only the others. The stopped pixels are read from the image's sums, so
+    /// every backend stops the same ones. Within [1e-4, 1]; off by default.
+    #[arg(long, value_parser = crate::cli_args::f32_in(1e-4, 1.0))]
+    pub adaptive_threshold: Option<f32>,
+    /// Samples every pixel takes before adaptive sampling may stop it.
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+    pub adaptive_min_spp: u32,
     /// Stop after the launch that reaches this many seconds of rendering (--spp stays the most it
     /// renders); every pixel holds the same number of samples. Unlike --target-error, where it
     /// stops depends on the machine's speed. Within [0.001, 31536000].
@@ -547,15 +557,20 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     bar.start("rendering", cmd.spp);
     let mut error_estimate = None;
     let mut stop_rule = "spp";
-    let rendered = super::render_until(
+    let adaptive = cmd.adaptive_threshold.map(|t| super::Adaptive { threshold: t as f64, min_spp: cmd.adaptive_min_spp });
+    let rendered = super::render_adaptive(
         &backend,
         &inputs,
         &params,
         cmd.spp,
         cmd.spp_per_pass,
+        adaptive,
         |acc| {
             error_estimate = acc.error_estimate();
             bar.error = error_estimate;
+            if adaptive.is_some() {
+                bar.active = Some(acc.stopped.iter().filter(|s| s.is_none()).count() as f64 / acc.stopped.len() as f64);
+            }
             bar.update(acc.spp)
         },
         |acc| {
@@ -571,6 +586,14 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     );
     bar.finish();
     let (img, time) = rendered?;
+    if stop_rule == "spp" && img.spp < cmd.spp {
+        stop_rule = "adaptive";
+        eprintln!("adaptive sampling stopped every pixel by {} of {} spp", img.spp, cmd.spp);
+    }
+    if adaptive.is_some() {
+        let mean = img.pixel_spp.iter().map(|&n| n as f64).sum::<f64>() / img.pixel_spp.len().max(1) as f64;
+        eprintln!("adaptive sampling: {mean:.1} samples per pixel on average ({} to {})", img.pixel_spp.iter().min().unwrap_or(&0), img.pixel_spp.iter().max().unwrap_or(&0));
+    }
     if stop_rule == "target-error" || stop_rule == "time-limit" {
         eprintln!(
             "stopped by --{stop_rule} at {} of {} spp (estimated relative RMSE {})",
@@ -649,6 +672,15 @@ pub fn main(cmd: RenderCommand) -> Result<()> {
     summary["target_error"] = serde_json::json!(cmd.target_error);
     summary["time_limit"] = serde_json::json!(cmd.time_limit);
     summary["error_estimate"] = serde_json::json!(error_estimate);
+    let mean_spp = img.pixel_spp.iter().map(|&n| n as f64).sum::<f64>() / img.pixel_spp.len().max(1) as f64;
+    summary["adaptive"] = match adaptive {
+        Some(a) => serde_json::json!({
+            "threshold": a.threshold, "min_spp": a.min_spp, "mean_spp": mean_spp,
+            "pixels_stopped_early": img.pixel_spp.iter().filter(|&&n| n < img.spp).count(),
+            "min_pixel_spp": img.pixel_spp.iter().min(), "max_pixel_spp": img.pixel_spp.iter().max(),
+        }),
+        None => serde_json::Value::Null,
+    };
     let text = serde_json::to_string_pretty(&summary)? + "\n";
     set.stage(&[&json], |t| Ok(std::fs::write(t, &text)?))?;
     let written = set.commit()?;
@@ -682,6 +714,8 @@ struct Bar {
     bar: indicatif::ProgressBar,
     /// The render's error estimate after the last launch (shown in the progress).
     error: Option<f64>,
+    /// With adaptive sampling: the fraction of pixels still sampled.
+    active: Option<f64>,
 }
 
 impl Bar {
@@ -698,6 +732,7 @@ impl Bar {
             t0: Instant::now(),
             bar: indicatif::ProgressBar::hidden(),
             error: None,
+            active: None,
         }
     }
 }
@@ -711,6 +746,17 @@ pub fn progress_line(what: &str, done: u32, total: u32, seconds: f64, pixels: f6
         100.0 * done as f64 / total.max(1) as f64,
         rate * pixels / 1e6
     )
+}
+
+impl Bar {
+    /// The error estimate and the pixels still sampled, for the progress.
+    fn extra(&self) -> String {
+        let mut s = self.error.map(|e| format!(", error ~{e:.4}")).unwrap_or_default();
+        if let Some(a) = self.active {
+            s += &format!(", {:.1}% of pixels sampled", 100.0 * a);
+        }
+        s
+    }
 }
 
 impl super::gbuffer::Progress for Bar {
@@ -741,10 +787,9 @@ impl super::gbuffer::Progress for Bar {
         let dt = self.t0.elapsed().as_secs_f64();
         if self.lines && !self.quiet && done < self.total && dt - self.last_line >= self.every {
             self.last_line = dt;
-            let error = self.error.map(|e| format!(", error ~{e:.4}")).unwrap_or_default();
-            eprintln!("{}{error}", progress_line(&self.what, done, self.total, dt, self.pixels));
+            eprintln!("{}{}", progress_line(&self.what, done, self.total, dt, self.pixels), self.extra());
         }
-        let error = self.error.map(|e| format!(", error ~{e:.4}")).unwrap_or_default();
+        let error = self.extra();
         self.bar.set_message(format!("{}: {:.2} M samples/s{error}", self.what, done as f64 * self.pixels / dt.max(1e-9) / 1e6));
     }
     fn finish(&mut self) {
