@@ -580,11 +580,14 @@ def run_host(args, job, work):
     if not host.exists():
         raise SystemExit(f"error: {host} not found: build it with `cargo build --release -p host` (or give --host)")
     extra = shlex.split(args.host_args or "")
-    info = {"renderer": "host", "version": host_version(host), "host_args": extra, "renders": []}
+    test_extra = shlex.split(args.host_test_args or "")
+    info = {"renderer": "host", "version": host_version(host), "host_args": extra, "host_test_args": test_extra, "renders": []}
     for r in job["renders"]:
         out = work / f"host-{r['name']}.exr"
         cmd = [str(host), "render", str(job["scene"]), "--device", "cpu", "--threads", str(args.threads), "--width", str(job["width"]), "--height", str(job["height"])]
         cmd += ["--spp", str(r["spp"]), "--seed", str(r["seed"]), "--max-depth", str(job["max_depth"]), "-o", str(out), "--quiet", *extra]
+        if not r["name"].startswith("ref"):
+            cmd += test_extra
         import resource
 
         r0, t0 = resource.getrusage(resource.RUSAGE_CHILDREN), time.perf_counter()
@@ -599,7 +602,8 @@ def run_host(args, job, work):
         if "sampler" in summary and "sampler" not in info["version"]:
             info["version"] += f" ({summary['sampler']} sampler)"
         np.save(work / f"host-{r['name']}.npy", read_exr(out))
-        info["renders"].append({**r, "seconds": summary["render_seconds"], "spp_rendered": summary["samples_per_pixel"], "cores_busy": busy, "process_seconds": wall, "command": shlex.join(cmd)})
+        mean_spp = (summary.get("adaptive") or {}).get("mean_spp")
+        info["renders"].append({**r, "seconds": summary["render_seconds"], "spp_rendered": summary["samples_per_pixel"], "mean_pixel_spp": mean_spp, "cores_busy": busy, "process_seconds": wall, "command": shlex.join(cmd)})
         log(f"  host {r['name']}: {r['spp']} spp in {summary['render_seconds']:.3f} s")
     return info
 
@@ -712,7 +716,7 @@ def report(args, mach, results, failed, scene_note):
     lines += [
         f"Settings: scene `{args.scene}`{scene_note}; {args.threads} threads each; host --max-depth {args.max_depth} (Cycles max_bounces {args.max_depth - 1}, Mitsuba max_depth {args.max_depth + 1});"
         f" references 2 x {args.ref_spp} spp per renderer; ladder {', '.join(map(str, args.ladder))} spp; target relative RMSE {args.target}; seed base {args.seed};"
-        f" Mitsuba sampler {args.mitsuba_sampler}, materials {args.mitsuba_bsdf}; host args `{args.host_args or ''}`.",
+        f" Mitsuba sampler {args.mitsuba_sampler}, materials {args.mitsuba_bsdf}; host args `{args.host_args or ''}`, ladder only `{args.host_test_args or ''}`.",
         "",
         "err = sqrt(max(0, mean((X - ref)^2) - mean((R1 - R2)^2) / 4)) / mean(ref), ref = (R1 + R2) / 2 of the renderer's own halves;"
         " time to target from the least-squares fit log err = a + b log time over the ladder.",
@@ -763,6 +767,7 @@ def main():
     ap.add_argument("--mitsuba-bsdf", default="principled", choices=["principled", "diffuse"], help="Mitsuba's material for glTF's metal-rough: principled (Disney), or diffuse (Lambert) for the non-metals (principled for metals); README: conversion")
     ap.add_argument("--host", default=str(REPO / "target/release/host"), help="the host binary")
     ap.add_argument("--host-args", default="", help='extra `host render` options, appended (e.g. "--sampler sobol")')
+    ap.add_argument("--host-test-args", default="", help='extra `host render` options for the ladder only, not the references (e.g. "--adaptive-threshold 0.03": the ladder\'s spp are then each render\'s most)')
     ap.add_argument("--quick", action="store_true", help="smoke test: 64x64, ladder 4,16, references 2 x 64 spp (options given win)")
     ap.add_argument("--report", help="also write the Markdown report here (and its JSON beside it)")
     ap.add_argument("--workdir", help="keep the renders (.npy) here (default: a temporary directory, removed)")

@@ -184,8 +184,8 @@ pub struct RenderCommand {
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
     pub adaptive_min_spp: u32,
     /// Stop after the launch that reaches this many seconds of rendering (--spp stays the most it
-    /// renders); every pixel holds the same number of samples. Unlike --target-error, where it
-    /// stops depends on the machine's speed. Within [0.001, 31536000].
+    /// renders). Unlike --target-error, where it stops depends on the machine's speed. Within
+    /// [0.001, 31536000].
     #[arg(long, value_parser = crate::cli_args::f32_in(0.001, 31_536_000.0))]
     pub time_limit: Option<f32>,
     /// When stderr is not a terminal: seconds between progress lines (samples done, rate,
