@@ -429,25 +429,35 @@ fn error_falls_as_one_over_sqrt_spp() {
     assert!((slope + 0.5).abs() < 0.15, "RMSE falls as spp^{slope:.3}, expected spp^-0.5");
 }
 
+/// The shared Cornell box under a uniform sky at 32x32 (as `host render` lights it) and its two
+/// independent 2048-spp PCG references, rendered once for the tests that measure error on it.
+fn cornell_32() -> &'static (Scene, env::Environment, RenderImage, RenderImage) {
+    static CELL: OnceLock<(Scene, env::Environment, RenderImage, RenderImage)> = OnceLock::new();
+    CELL.get_or_init(|| {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
+        let scene = Scene::load(path).unwrap();
+        let sky = env::build(&EnvSpec::Uniform([1.0; 3]), 1.0, 0.0).unwrap();
+        let cam = scene.cameras[0].clone();
+        let reference = |seed| render(&scene, &sky, &params(&cam, 32, 32, STRATEGY_MIS, Compensation::Turquin, 1.0, 8, seed), 2048);
+        let (r1, r2) = (reference(999), reference(998));
+        (scene, sky, r1, r2)
+    })
+}
+
 #[test]
 fn sobol_samples_converge_as_fast_or_faster_and_lower_than_pcg() {
-    // The shared Cornell box under a uniform sky (as `host render` lights it): smooth enough
-    // that stratification shows; references from two independent PCG renders.
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
-    let scene = Scene::load(path).unwrap();
-    let sky = env::build(&EnvSpec::Uniform([1.0; 3]), 1.0, 0.0).unwrap();
+    // The Cornell box is smooth enough that stratification shows.
+    let (scene, sky, r1, r2) = cornell_32();
     let cam = scene.cameras[0].clone();
-    let (w, h) = (32u32, 32u32);
     let at = |sampler: u32, seed: u32, spp: u32| {
-        let p = RenderParams { sampler, ..params(&cam, w, h, STRATEGY_MIS, Compensation::Turquin, 1.0, 8, seed) };
-        render(&scene, &sky, &p, spp)
+        let p = RenderParams { sampler, ..params(&cam, 32, 32, STRATEGY_MIS, Compensation::Turquin, 1.0, 8, seed) };
+        render(scene, sky, &p, spp)
     };
-    let (r1, r2) = (at(SAMPLER_PCG, 999, 2048), at(SAMPLER_PCG, 998, 2048));
     let mut err = [[0.0f64; 4]; 2];
     for (k, sampler) in [SAMPLER_PCG, SAMPLER_SOBOL].into_iter().enumerate() {
         let mut pts = Vec::new();
         for (j, spp) in [4u32, 16, 64, 256].into_iter().enumerate() {
-            err[k][j] = relative_rmse(&at(sampler, 7, spp), &r1, &r2);
+            err[k][j] = relative_rmse(&at(sampler, 7, spp), r1, r2);
             pts.push(((spp as f64).ln(), err[k][j].ln()));
         }
         let slope = log_slope(&pts);
@@ -511,20 +521,16 @@ fn the_error_estimate_tracks_the_true_error_and_the_target_stops_the_render() {
     // The Cornell box under a uniform sky, 32x32: PCG samples (independent halves) give an
     // estimate within 25 % of the error against two 2048-spp references; Sobol samples' estimate
     // is conservative (at or above the true error, within 2.5x).
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell_box/cornell_box.gltf");
-    let scene = Scene::load(path).unwrap();
-    let sky = env::build(&EnvSpec::Uniform([1.0; 3]), 1.0, 0.0).unwrap();
+    let (scene, sky, r1, r2) = cornell_32();
     let cam = scene.cameras[0].clone();
     let inputs = RenderInputs { scene: &scene.words, env: &sky.words, lut: lut() };
     let p = |sampler: u32, seed: u32| RenderParams { sampler, ..params(&cam, 32, 32, STRATEGY_MIS, Compensation::Turquin, 1.0, 8, seed) };
-    let reference = |seed| render::render(&Backend::Cpu, &inputs, &p(SAMPLER_PCG, seed), 2048, 256, |_| {}).unwrap().0;
-    let (r1, r2) = (reference(999), reference(998));
     for (sampler, lo, hi) in [(SAMPLER_PCG, 0.75, 1.25), (SAMPLER_SOBOL, 1.0, 2.5)] {
         let mut estimates = Vec::new();
         let (img, _) = render::render_until(&Backend::Cpu, &inputs, &p(sampler, 7), 64, 4, |acc| estimates.push(acc.error_estimate()), |_| false).unwrap();
         assert_eq!(estimates[0], None, "one launch has no second half");
         let estimate = estimates.last().unwrap().unwrap();
-        let truth = relative_rmse(&img, &r1, &r2);
+        let truth = relative_rmse(&img, r1, r2);
         eprintln!("sampler {sampler}: estimated relative RMSE {estimate:.4}, against the references {truth:.4}");
         assert!(estimate >= lo * truth && estimate <= hi * truth, "sampler {sampler}: estimate {estimate} against true error {truth}");
     }
@@ -536,5 +542,5 @@ fn the_error_estimate_tracks_the_true_error_and_the_target_stops_the_render() {
     assert!(img.spp < 4096, "the target was never reached");
     assert!(estimates.last().unwrap().unwrap() <= target);
     assert!(estimates[..estimates.len() - 1].iter().all(|e| e.is_none_or(|e| e > target)), "it ran past the first launch under the target: {estimates:?}");
-    assert!(relative_rmse(&img, &r1, &r2) <= target, "the image's true error is above the target");
+    assert!(relative_rmse(&img, r1, r2) <= target, "the image's true error is above the target");
 }
