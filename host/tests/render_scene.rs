@@ -611,7 +611,7 @@ fn unsupported_features_are_named_in_warnings() {
     png.put_pixel(0, 0, image::Rgba([1, 2, 3, 4]));
     png.save(dir.path().join("t.png")).unwrap();
     let doc = json!({
-        "extensionsUsed": ["KHR_texture_transform", "KHR_materials_clearcoat"],
+        "extensionsUsed": ["KHR_materials_volume", "KHR_materials_clearcoat"],
         "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
         "meshes": [{"primitives": [prim, {"attributes": {"POSITION": pts}, "mode": 0}]}],
         "materials": [{"name": "glass", "alphaMode": "BLEND", "occlusionTexture": {"index": 0},
@@ -621,7 +621,7 @@ fn unsupported_features_are_named_in_warnings() {
     let p = write_gltf(dir.path(), "w", doc, &bin);
     let s = Scene::load(&p).unwrap();
     let all = s.warnings.join("\n");
-    for needle in ["KHR_texture_transform", "KHR_materials_clearcoat", "BLEND", "occlusionTexture", "TEXCOORD_1", "Points"] {
+    for needle in ["KHR_materials_volume", "KHR_materials_clearcoat", "BLEND", "occlusionTexture", "TEXCOORD_1", "Points"] {
         assert!(all.contains(needle), "no warning names {needle}:\n{all}");
     }
     let m = sc::material(&s.words, 0, sc::M_ALPHA_MODE);
@@ -937,4 +937,97 @@ fn a_directed_light_under_a_singular_transform_is_refused() {
     });
     let e = load_err(&p);
     assert!(e.contains("no direction") && e.contains("nodes[1]"), "{e}");
+}
+
+/// `KHR_texture_transform` against an independent reading of the extension spec: a ray's hit on a
+/// quad textured by a 4x4 nearest-sampled REPEAT texture of distinct texels shows the texel at
+/// uv' = T R S uv, T R S built in f64 from the spec's three matrices (glam), for points away
+/// from texel edges; per slot (base colour and emissive differ), identity where absent; a
+/// texCoord override is warned about; a bad value is an error naming the slot and the field.
+#[test]
+fn texture_transform_maps_uvs_as_the_extension_spec_says() {
+    use glam::{DMat3, DVec3};
+    use shader_core::pt::surface::surface_point;
+    let dir = tempfile::tempdir().unwrap();
+    let mut img = image::RgbaImage::new(4, 4);
+    for k in 0..16u32 {
+        img.put_pixel(k % 4, k / 4, image::Rgba([(16 * k) as u8, (255 - 16 * k) as u8, 0, 255]));
+    }
+    img.save(dir.path().join("grid.png")).unwrap();
+    let scene_with = |name: &str, base_tt: Value, emissive_tt: Option<Value>| {
+        let mut bin = Bin::default();
+        let mut doc = one_quad(&mut bin);
+        let mut base = json!({"index": 0});
+        base["extensions"] = json!({"KHR_texture_transform": base_tt});
+        let mut emissive = json!({"index": 0});
+        if let Some(e) = emissive_tt {
+            emissive["extensions"] = json!({"KHR_texture_transform": e});
+        }
+        doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+        doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": base}, "emissiveTexture": emissive, "emissiveFactor": [1.0, 1.0, 1.0]}]);
+        doc["textures"] = json!([{"source": 0, "sampler": 0}]);
+        doc["samplers"] = json!([{"magFilter": 9728, "wrapS": 10497, "wrapT": 10497}]);
+        doc["images"] = json!([{"uri": "grid.png"}]);
+        doc["extensionsUsed"] = json!(["KHR_texture_transform"]);
+        write_gltf(dir.path(), name, doc, &bin)
+    };
+    // The spec's matrices, row-major as it writes them (glam takes columns: transpose).
+    let spec = |offset: [f64; 2], rotation: f64, scale: [f64; 2]| {
+        let t = DMat3::from_cols_array(&[1.0, 0.0, offset[0], 0.0, 1.0, offset[1], 0.0, 0.0, 1.0]).transpose();
+        let r = DMat3::from_cols_array(&[rotation.cos(), rotation.sin(), 0.0, -rotation.sin(), rotation.cos(), 0.0, 0.0, 0.0, 1.0]).transpose();
+        let s = DMat3::from_cols_array(&[scale[0], 0.0, 0.0, 0.0, scale[1], 0.0, 0.0, 0.0, 1.0]).transpose();
+        t * r * s
+    };
+    let texel = |m: DMat3, u: f64, v: f64| -> Option<u32> {
+        let p = m * DVec3::new(u, v, 1.0);
+        let (x, y) = (p.x.rem_euclid(1.0) * 4.0, p.y.rem_euclid(1.0) * 4.0);
+        let edge = |c: f64| (c - c.round()).abs() < 0.02;
+        (!edge(x) && !edge(y)).then(|| (y.floor() as u32) * 4 + x.floor() as u32)
+    };
+    let cases = [([0.25, -0.5], 0.4, [1.5, 0.75]), ([0.0, 0.0], -1.1, [1.0, 1.0]), ([0.6, 0.3], 0.0, [3.0, -2.0])];
+    for (i, (offset, rotation, scale)) in cases.into_iter().enumerate() {
+        let tt = json!({"offset": offset, "rotation": rotation, "scale": scale});
+        let p = scene_with(&format!("tt{i}"), tt, None);
+        let s = Scene::load(&p).expect("loads");
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        let w = &s.words;
+        let m = spec(offset, rotation, scale);
+        let mut checked = 0;
+        for j in 0..400 {
+            let (x, y) = (-0.95 + 1.9 * ((j % 20) as f32 + 0.5) / 20.0, -0.95 + 1.9 * ((j / 20) as f32 + 0.5) / 20.0);
+            let h = bvh::closest_hit(w, &Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY);
+            assert!(h.is_hit());
+            let sp = surface_point(w, h.tri, h.b1, h.b2, Vec3::new(0.0, 0.0, -1.0));
+            // the quad's uv: u = (x + 1) / 2, v = (1 - y) / 2
+            let (u, v) = ((x as f64 + 1.0) / 2.0, (1.0 - y as f64) / 2.0);
+            let decode = |c: f32| (shader_core::pt::texture::srgb_to_linear(c) * 255.0).round() as u32;
+            if let Some(k) = texel(m, u, v) {
+                let want = shader_core::pt::texture::srgb_to_linear((16 * k) as f32 / 255.0);
+                assert!((sp.material.base.x - want).abs() < 1e-6, "case {i}, uv ({u}, {v}): base colour of texel {k} wanted, got red {}", sp.material.base.x);
+                checked += 1;
+            }
+            // the emissive slot has no transform: its texel is read at uv itself
+            if let Some(k) = texel(DMat3::IDENTITY, u, v) {
+                let want = shader_core::pt::texture::srgb_to_linear((16 * k) as f32 / 255.0);
+                assert!((sp.material.emission.x - want).abs() < 1e-6, "case {i}: emissive at uv ({u}, {v}), red {} (decoded {})", sp.material.emission.x, decode(sp.material.emission.x));
+            }
+        }
+        assert!(checked > 300, "case {i}: only {checked} points away from texel edges");
+    }
+    // texCoord override: warned, set 0 used
+    let s = Scene::load(scene_with("override", json!({"scale": [2.0, 2.0], "texCoord": 1}), None)).unwrap();
+    assert!(s.warnings.iter().any(|w| w.contains("baseColorTexture uses TEXCOORD_1")), "{:?}", s.warnings);
+    // bad values: named errors
+    for (name, tt, what) in [
+        ("bad_scale", json!({"scale": [1.0]}), "baseColorTexture.extensions.KHR_texture_transform: scale must be two finite numbers"),
+        ("bad_offset", json!({"offset": ["a", 0.0]}), "offset must be two finite numbers"),
+        ("bad_rotation", json!({"rotation": "x"}), "rotation must be a finite number"),
+        ("huge_scale", json!({"scale": [1e39, 1.0]}), "scale must be two finite numbers"),
+        ("bad_set", json!({"texCoord": -1}), "texCoord must be a non-negative integer"),
+    ] {
+        let e = load_err(&scene_with(name, tt, None));
+        assert!(e.contains(what), "{name}: {e}");
+    }
+    let e = load_err(&scene_with("bad_emissive", json!({}), Some(json!({"rotation": null}))));
+    assert!(e.contains("emissiveTexture.extensions.KHR_texture_transform: rotation"), "{e}");
 }

@@ -556,6 +556,15 @@ pub fn material_words(m: &Material) -> [u32; sc::MATERIAL_WORDS] {
     w[sc::M_NORMAL_TEX] = tex(m.normal_texture);
     w[sc::M_EMISSIVE_TEX] = tex(m.emissive_texture);
     w[sc::M_TRANSMISSION_TEX] = tex(m.transmission_texture);
+    let slots = [m.base_color_uv, m.metallic_roughness_uv, m.normal_uv, m.emissive_uv, m.transmission_uv];
+    for (k, t) in slots.iter().enumerate() {
+        for (j, x) in t.matrix().iter().enumerate() {
+            w[sc::M_UV_TRANSFORMS + 6 * k + j] = x.to_bits();
+        }
+        if !t.is_identity() {
+            w[sc::M_UV_TRANSFORMED] |= 1 << k;
+        }
+    }
     w
 }
 

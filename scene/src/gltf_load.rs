@@ -1,13 +1,15 @@
 //! glTF 2.0 loading (Khronos, "glTF 2.0 Specification", sections 3.5 scenes and nodes, 3.6
 //! binary data, 3.7 meshes, 3.8 textures, 3.9 materials, 3.10 cameras; `KHR_lights_punctual`,
-//! `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `KHR_materials_ior`)
+//! `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `KHR_materials_ior`,
+//! `KHR_texture_transform`)
 //! through the `gltf` crate, into a [`SceneBuilder`].
 //!
 //! Handled: `.gltf` with external or data-URI buffers and images, `.glb`; the default scene (or
 //! scene 0) and its node hierarchy (matrix or TRS); `TRIANGLES`, `TRIANGLE_STRIP` and
 //! `TRIANGLE_FAN` primitives, indexed or not; `POSITION`, `NORMAL`, `TEXCOORD_0`, `TANGENT`;
 //! metal-rough materials with their textures (PNG, JPEG), samplers' wrap modes and
-//! magnification filter; cameras; punctual lights.
+//! magnification filter, and each texture reference's `KHR_texture_transform` (offset, rotation,
+//! scale; a non-finite value is an error); cameras; punctual lights.
 //!
 //! Documented handling (each a warning naming it): `POINTS` / `LINES*` primitives skipped;
 //! `alphaMode` `BLEND` treated as `MASK` at 0.5; texture sets other than 0 read as set 0;
@@ -22,14 +24,47 @@
 
 use super::math::{normalize, Mat4};
 use glam::DVec3;
-use super::{AlphaMode, Camera, LightKind, Material, MeshData, Projection, PunctualLight, Scene, SceneBuilder, Texture, Wrap};
+use super::{AlphaMode, Camera, LightKind, Material, MeshData, Projection, PunctualLight, Scene, SceneBuilder, Texture, UvTransform, Wrap};
 use anyhow::{anyhow, bail, Context, Result};
 use gltf::mesh::Mode;
 use std::collections::HashMap;
 use std::path::Path;
 
 /// Extensions whose content the loader uses.
-const SUPPORTED: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior"];
+const SUPPORTED: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior", TEXTURE_TRANSFORM];
+const TEXTURE_TRANSFORM: &str = "KHR_texture_transform";
+
+/// A `KHR_texture_transform` object (glTF extension spec: `offset` and `scale` two numbers,
+/// `rotation` a number, `texCoord` a set index overriding the reference's; every number finite)
+/// and the texture coordinate set it reads (`tex_coord`, the reference's own, unless overridden).
+fn uv_transform(v: &serde_json::Value, tex_coord: u32) -> std::result::Result<(UvTransform, u32), String> {
+    let obj = v.as_object().ok_or("must be an object")?;
+    let pair = |key: &str, default: [f32; 2]| -> std::result::Result<[f32; 2], String> {
+        match obj.get(key) {
+            None => Ok(default),
+            Some(x) => match x.as_array().map(|a| a.iter().map(|e| e.as_f64()).collect::<Vec<_>>()).as_deref() {
+                Some([Some(a), Some(b)]) if (*a as f32).is_finite() && (*b as f32).is_finite() => Ok([*a as f32, *b as f32]),
+                _ => Err(format!("{key} must be two finite numbers, not {x}")),
+            },
+        }
+    };
+    let rotation = match obj.get("rotation") {
+        None => 0.0,
+        Some(x) => match x.as_f64() {
+            Some(r) if (r as f32).is_finite() => r as f32,
+            _ => return Err(format!("rotation must be a finite number, not {x}")),
+        },
+    };
+    let set = match obj.get("texCoord") {
+        None => tex_coord,
+        Some(x) => x.as_u64().and_then(|n| u32::try_from(n).ok()).ok_or_else(|| format!("texCoord must be a non-negative integer, not {x}"))?,
+    };
+    let t = UvTransform { offset: pair("offset", [0.0, 0.0])?, rotation, scale: pair("scale", [1.0, 1.0])? };
+    if t.matrix().iter().any(|m| !m.is_finite()) {
+        return Err(format!("offset {:?}, rotation {}, scale {:?} overflow f32", t.offset, t.rotation, t.scale));
+    }
+    Ok((t, set))
+}
 
 /// Loads `path` (.gltf or .glb) into a [`Scene`].
 pub fn load(path: &Path) -> Result<Scene> {
@@ -198,12 +233,17 @@ impl<'a> Loader<'a> {
         Ok(i)
     }
 
-    /// A texture reference of material `mname`, warning on texCoord != 0.
-    fn tex_ref(&mut self, mname: &str, slot: &str, tex: gltf::Texture, tex_coord: u32) -> Result<Option<u32>> {
-        if tex_coord != 0 {
-            self.b.warn(format!("material '{mname}': {slot} uses TEXCOORD_{tex_coord}; TEXCOORD_0 is used instead"));
+    /// A texture reference of material `mname` with its `KHR_texture_transform` (`ext`, the
+    /// reference's extension value), warning on a texture coordinate set other than 0.
+    fn tex_ref(&mut self, mname: &str, slot: &str, tex: gltf::Texture, tex_coord: u32, ext: Option<&serde_json::Value>) -> Result<(Option<u32>, UvTransform)> {
+        let (transform, set) = match ext {
+            None => (UvTransform::IDENTITY, tex_coord),
+            Some(v) => uv_transform(v, tex_coord).map_err(|e| anyhow!("{}: material '{mname}': {slot}.extensions.KHR_texture_transform: {e}", self.file))?,
+        };
+        if set != 0 {
+            self.b.warn(format!("material '{mname}': {slot} uses TEXCOORD_{set}; TEXCOORD_0 is used instead"));
         }
-        Ok(Some(self.texture(tex)?))
+        Ok((Some(self.texture(tex)?), transform))
     }
 
     fn materials(&mut self) -> Result<()> {
@@ -229,17 +269,21 @@ impl<'a> Loader<'a> {
                 }
             };
             if let Some(t) = pbr.base_color_texture() {
-                mat.base_color_texture = self.tex_ref(&name, "baseColorTexture", t.texture(), t.tex_coord())?;
+                let ext = t.extension_value(TEXTURE_TRANSFORM);
+                (mat.base_color_texture, mat.base_color_uv) = self.tex_ref(&name, "baseColorTexture", t.texture(), t.tex_coord(), ext)?;
             }
             if let Some(t) = pbr.metallic_roughness_texture() {
-                mat.metallic_roughness_texture = self.tex_ref(&name, "metallicRoughnessTexture", t.texture(), t.tex_coord())?;
+                let ext = t.extension_value(TEXTURE_TRANSFORM);
+                (mat.metallic_roughness_texture, mat.metallic_roughness_uv) = self.tex_ref(&name, "metallicRoughnessTexture", t.texture(), t.tex_coord(), ext)?;
             }
             if let Some(t) = m.normal_texture() {
                 mat.normal_scale = t.scale();
-                mat.normal_texture = self.tex_ref(&name, "normalTexture", t.texture(), t.tex_coord())?;
+                let ext = t.extension_value(TEXTURE_TRANSFORM);
+                (mat.normal_texture, mat.normal_uv) = self.tex_ref(&name, "normalTexture", t.texture(), t.tex_coord(), ext)?;
             }
             if let Some(t) = m.emissive_texture() {
-                mat.emissive_texture = self.tex_ref(&name, "emissiveTexture", t.texture(), t.tex_coord())?;
+                let ext = t.extension_value(TEXTURE_TRANSFORM);
+                (mat.emissive_texture, mat.emissive_uv) = self.tex_ref(&name, "emissiveTexture", t.texture(), t.tex_coord(), ext)?;
             }
             if m.occlusion_texture().is_some() {
                 self.b.warn(format!("material '{name}': occlusionTexture is ignored (the path tracer computes occlusion)"));
@@ -247,7 +291,8 @@ impl<'a> Loader<'a> {
             if let Some(tr) = m.transmission() {
                 mat.transmission = tr.transmission_factor();
                 if let Some(t) = tr.transmission_texture() {
-                    mat.transmission_texture = self.tex_ref(&name, "transmissionTexture", t.texture(), t.tex_coord())?;
+                    let ext = t.extension_value(TEXTURE_TRANSFORM);
+                    (mat.transmission_texture, mat.transmission_uv) = self.tex_ref(&name, "transmissionTexture", t.texture(), t.tex_coord(), ext)?;
                 }
             }
             if let Some(ior) = m.ior() {

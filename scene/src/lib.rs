@@ -79,6 +79,53 @@ pub struct Material {
     pub emissive_texture: Option<u32>,
     /// Transmission texture (factor in R).
     pub transmission_texture: Option<u32>,
+    /// `KHR_texture_transform` of the base colour texture.
+    pub base_color_uv: UvTransform,
+    /// `KHR_texture_transform` of the metallic-roughness texture.
+    pub metallic_roughness_uv: UvTransform,
+    /// `KHR_texture_transform` of the normal texture.
+    pub normal_uv: UvTransform,
+    /// `KHR_texture_transform` of the emissive texture.
+    pub emissive_uv: UvTransform,
+    /// `KHR_texture_transform` of the transmission texture.
+    pub transmission_uv: UvTransform,
+}
+
+/// A texture reference's `KHR_texture_transform` (glTF extension spec): texture coordinates are
+/// read as uv' = T R S uv, T the translation by `offset`, R the rotation by `rotation` radians
+/// (counter-clockwise in UV space: R = [[cos, sin], [-sin, cos]]), S the scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    /// `offset` (u, v).
+    pub offset: [f32; 2],
+    /// `rotation` in radians.
+    pub rotation: f32,
+    /// `scale` (u, v).
+    pub scale: [f32; 2],
+}
+
+impl Default for UvTransform {
+    fn default() -> UvTransform {
+        UvTransform::IDENTITY
+    }
+}
+
+impl UvTransform {
+    /// No transform (the extension's defaults).
+    pub const IDENTITY: UvTransform = UvTransform { offset: [0.0, 0.0], rotation: 0.0, scale: [1.0, 1.0] };
+
+    /// Whether texture coordinates pass unchanged.
+    pub fn is_identity(&self) -> bool {
+        *self == UvTransform::IDENTITY
+    }
+
+    /// T R S as the 2x3 matrix [m0 m1 m2; m3 m4 m5] the kernels apply:
+    /// (u', v') = (m0 u + m1 v + m2, m3 u + m4 v + m5); computed in f64, rounded once to f32.
+    pub fn matrix(&self) -> [f32; 6] {
+        let (s, c) = (self.rotation as f64).sin_cos();
+        let (sx, sy) = (self.scale[0] as f64, self.scale[1] as f64);
+        [(c * sx) as f32, (s * sy) as f32, self.offset[0], (-s * sx) as f32, (c * sy) as f32, self.offset[1]]
+    }
 }
 
 impl Default for Material {
@@ -101,6 +148,11 @@ impl Default for Material {
             normal_texture: None,
             emissive_texture: None,
             transmission_texture: None,
+            base_color_uv: UvTransform::IDENTITY,
+            metallic_roughness_uv: UvTransform::IDENTITY,
+            normal_uv: UvTransform::IDENTITY,
+            emissive_uv: UvTransform::IDENTITY,
+            transmission_uv: UvTransform::IDENTITY,
         }
     }
 }

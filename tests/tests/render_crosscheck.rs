@@ -8,7 +8,7 @@
 use crosscheck::{assert_bits_equal, gpu_backend};
 use host::energy::{self, Compensation, TableSpec};
 use host::render::environment::{self as env, EnvSpec};
-use host::render::scene::{LightKind, Mat4, Material, MeshData, PunctualLight, Scene, SceneBuilder, Texture, Wrap, AlphaMode, Camera, Projection};
+use host::render::scene::{LightKind, Mat4, Material, MeshData, PunctualLight, Scene, SceneBuilder, Texture, UvTransform, Wrap, AlphaMode, Camera, Projection};
 use host::render::{self, RenderImage, RenderInputs};
 use host::Backend;
 use shader_core::pt::integrator::{RenderParams, STRATEGY_BSDF, STRATEGY_LIGHT, STRATEGY_MIS};
@@ -102,7 +102,8 @@ fn cornell_box_progressive_launches() {
     compare("cornell box, adaptive sampling", &c, &g);
 }
 
-/// A quad floor with a checker base-colour texture, a bumpy normal map and a masked cut-out, a
+/// A quad floor with a checker base-colour texture and a bumpy normal map (each through a
+/// `KHR_texture_transform` of its own) and a masked cut-out, a
 /// glass sphere-ish box (transmission), a rough metal quad, point, spot and directional lights
 /// and an equirectangular environment.
 fn feature_scene() -> (Scene, env::Environment) {
@@ -116,6 +117,8 @@ fn feature_scene() -> (Scene, env::Environment) {
     let floor_m = b.material(Material {
         base_color_texture: Some(t_base),
         normal_texture: Some(t_normal),
+        base_color_uv: UvTransform { offset: [0.3, -0.1], rotation: 0.35, scale: [1.25, 0.8] },
+        normal_uv: UvTransform { offset: [0.0, 0.5], rotation: 0.0, scale: [2.0, 2.0] },
         alpha_mode: AlphaMode::Mask(0.5),
         ..Material::pbr("floor", [1.0, 1.0, 1.0], 0.0, 0.6)
     });

@@ -58,6 +58,15 @@ pub const MUTANTS: &[Mutant] = &[
         filter: &["sqrt_perturbed_seeds_all_significands"],
     },
     Mutant {
+        name: "texture transform rotated the wrong way",
+        file: "scene/src/lib.rs",
+        from: "[(c * sx) as f32, (s * sy) as f32, self.offset[0], (-s * sx) as f32, (c * sy) as f32, self.offset[1]]",
+        to: "[(c * sx) as f32, (-s * sy) as f32, self.offset[0], (s * sx) as f32, (c * sy) as f32, self.offset[1]]",
+        package: "host",
+        test: "render_scene",
+        filter: &["texture_transform"],
+    },
+    Mutant {
         name: "stochastic ray weight without G2",
         file: STOCHASTIC,
         from: "ieee::div(ieee::div(ggx_d_cos(s.n.dot(h), alpha) * g2, 4.0 * nv), pdf)",

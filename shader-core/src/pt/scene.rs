@@ -116,7 +116,7 @@ pub const SF_TANGENTS: u32 = 4;
 pub const NONE: u32 = u32::MAX;
 
 /// Words per material.
-pub const MATERIAL_WORDS: usize = 24;
+pub const MATERIAL_WORDS: usize = 52;
 /// Material word: base colour factor, linear RGBA (4 words).
 pub const M_BASE: usize = 0;
 /// Material word: metallic factor.
@@ -147,6 +147,13 @@ pub const M_NORMAL_TEX: usize = 17;
 pub const M_EMISSIVE_TEX: usize = 18;
 /// Material word: transmission texture (linear; factor in R) or [`NONE`].
 pub const M_TRANSMISSION_TEX: usize = 19;
+/// Material word: the `KHR_texture_transform` of each texture slot ([`M_BASE_TEX`] ..
+/// [`M_TRANSMISSION_TEX`], in that order), 6 words each: the affine map
+/// (u', v') = (m0 u + m1 v + m2, m3 u + m4 v + m5) of the extension's offset x rotation x scale.
+pub const M_UV_TRANSFORMS: usize = 20;
+/// Material word: bit k set when texture slot k ([`M_BASE_TEX`] + k) has a transform other than
+/// the identity (else its texture coordinates are used as they are).
+pub const M_UV_TRANSFORMED: usize = 50;
 /// Alpha mode: opaque (alpha ignored).
 pub const ALPHA_OPAQUE: u32 = 0;
 /// Alpha mode: a hit is kept only where alpha >= cutoff (glTF `MASK`).

@@ -17,7 +17,7 @@
 //! assert!(orthonormal_tangent(n).dot(n).abs() < 1e-7);
 //! ```
 
-use super::scene::{self, float, vec3, word, ALPHA_MASK, M_ALPHA_CUTOFF, M_ALPHA_MODE, M_BASE, M_BASE_TEX, M_DOUBLE_SIDED, M_EMISSIVE, M_EMISSIVE_TEX, M_IOR, M_METALLIC, M_MR_TEX, M_NORMAL_SCALE, M_NORMAL_TEX, M_ROUGHNESS, M_TRANSMISSION, M_TRANSMISSION_TEX, NONE, SF_NORMALS, SF_TANGENTS, SF_UVS, S_FLAGS, S_LIGHT, S_MATERIAL, S_NORMALS, S_TANGENTS, S_UVS};
+use super::scene::{self, float, vec3, word, ALPHA_MASK, M_ALPHA_CUTOFF, M_ALPHA_MODE, M_BASE, M_BASE_TEX, M_DOUBLE_SIDED, M_EMISSIVE, M_EMISSIVE_TEX, M_IOR, M_METALLIC, M_MR_TEX, M_NORMAL_SCALE, M_NORMAL_TEX, M_ROUGHNESS, M_TRANSMISSION, M_TRANSMISSION_TEX, M_UV_TRANSFORMED, M_UV_TRANSFORMS, NONE, SF_NORMALS, SF_TANGENTS, SF_UVS, S_FLAGS, S_LIGHT, S_MATERIAL, S_NORMALS, S_TANGENTS, S_UVS};
 use super::texture::{self, Rgba};
 use crate::vector::Vec3;
 
@@ -40,13 +40,28 @@ pub fn uv(sc: &[u32], t: u32, b1: f32, b2: f32) -> (f32, f32) {
     (u, v)
 }
 
-/// Material texture `w` (a `M_*_TEX` word) of material `m` at (u, v), or `fallback` without one.
+/// (u, v) as texture slot `w` (a `M_*_TEX` word) of material `m` reads them: mapped by the slot's
+/// `KHR_texture_transform` (glTF extension spec: uv' = T R S uv, offset x rotation x scale,
+/// stored as a 2x3 matrix) where it has one, else unchanged.
+#[inline]
+pub fn slot_uv(sc: &[u32], m: u32, w: usize, u: f32, v: f32) -> (f32, f32) {
+    let slot = (w - M_BASE_TEX) as u32;
+    if word(sc, scene::material(sc, m, M_UV_TRANSFORMED)) & (1 << slot) == 0 {
+        return (u, v);
+    }
+    let o = scene::material(sc, m, M_UV_TRANSFORMS + 6 * slot as usize);
+    ((float(sc, o) * u + float(sc, o + 1) * v) + float(sc, o + 2), (float(sc, o + 3) * u + float(sc, o + 4) * v) + float(sc, o + 5))
+}
+
+/// Material texture `w` (a `M_*_TEX` word) of material `m` at (u, v) (through the slot's texture
+/// transform), or `fallback` without one.
 #[inline]
 fn material_texture(sc: &[u32], m: u32, w: usize, u: f32, v: f32, srgb: bool, fallback: Rgba) -> Rgba {
     let t = word(sc, scene::material(sc, m, w));
     if t == NONE {
         fallback
     } else {
+        let (u, v) = slot_uv(sc, m, w, u, v);
         texture::sample(sc, t, u, v, srgb)
     }
 }
@@ -161,7 +176,8 @@ pub fn surface_point(sc: &[u32], t: u32, b1: f32, b2: f32, d: Vec3) -> SurfacePo
             // Normal map (glTF 3.9.3): n = normalize((2 c - 1) * (scale, scale, 1)) in (T, B, N).
             let nt = word(sc, scene::material(sc, m, M_NORMAL_TEX));
             if nt != NONE && flags & SF_UVS != 0 {
-                let c = texture::sample(sc, nt, u, v, false);
+                let (nu, nv) = slot_uv(sc, m, M_NORMAL_TEX, u, v);
+                let c = texture::sample(sc, nt, nu, nv, false);
                 let scale = float(sc, scene::material(sc, m, M_NORMAL_SCALE));
                 let (x, y, z) = ((2.0 * c.r - 1.0) * scale, (2.0 * c.g - 1.0) * scale, 2.0 * c.b - 1.0);
                 let bt = ns.cross(ts) * tangent_sign;
