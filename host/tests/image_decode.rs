@@ -162,3 +162,54 @@ fn radiance_rgbe_decodes_as_the_image_crate_does() {
         same_rgb_f32(&hdr, "hdr", &format!("RGBE {w}x{h}"), false);
     }
 }
+
+/// CRC-32 of PNG chunks (ISO 3309, the polynomial 0xedb88320, bit by bit).
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = 0xffff_ffffu32;
+    for &b in bytes {
+        c ^= b as u32;
+        for _ in 0..8 {
+            c = if c & 1 != 0 { (c >> 1) ^ 0xedb8_8320 } else { c >> 1 };
+        }
+    }
+    !c
+}
+
+/// Images whose headers declare a huge size are refused by that size, before any allocation
+/// (a 100 kB file must not ask for 40 GB), naming the format, the size and the limit; an image
+/// at the limit's side still decodes.
+#[test]
+fn declared_sizes_over_the_limit_are_refused_before_decoding() {
+    use scene::image_file::{MAX_PIXELS, MAX_SIDE};
+    let limit = format!("over the limit of {MAX_SIDE} per side and {MAX_PIXELS} in all");
+    // PNG: a real 1x1 image with its IHDR width and height rewritten (and the chunk's CRC).
+    let png = encode(&DynamicImage::ImageRgba8(ImageBuffer::from_raw(1, 1, vec![1, 2, 3, 4]).unwrap()), ImageFormat::Png);
+    assert_eq!(&png[12..16], b"IHDR");
+    for (w, h) in [(100_000u32, 100_000u32), (MAX_SIDE + 1, 1), (12_000, 12_000), (0, 5)] {
+        let mut p = png.clone();
+        p[16..20].copy_from_slice(&w.to_be_bytes());
+        p[20..24].copy_from_slice(&h.to_be_bytes());
+        let crc = crc32(&p[12..29]);
+        p[29..33].copy_from_slice(&crc.to_be_bytes());
+        let e = format!("{:#}", decode_rgba8(&p).expect_err("refused"));
+        // (the png crate refuses an empty image itself)
+        let want = if w == 0 { "PNG: Invalid image dimensions".to_string() } else { format!("PNG: the image declares {w}x{h} pixels, {limit}") };
+        assert!(e.contains(&want), "{w}x{h}: {e}");
+    }
+    let wide = DynamicImage::ImageRgba8(ImageBuffer::from_raw(MAX_SIDE, 1, vec![7; 4 * MAX_SIDE as usize]).unwrap());
+    assert_eq!(decode_rgba8(&encode(&wide, ImageFormat::Png)).unwrap().width, MAX_SIDE);
+    // JPEG: the baseline frame header's height and width rewritten.
+    let jpg = encode(&DynamicImage::ImageRgb8(ImageBuffer::from_raw(16, 16, noise(3 * 256, 5)).unwrap()), ImageFormat::Jpeg);
+    let sof = jpg.windows(2).position(|m| m == [0xff, 0xc0]).expect("a baseline JPEG");
+    let mut j = jpg.clone();
+    j[sof + 5..sof + 7].copy_from_slice(&60_000u16.to_be_bytes());
+    j[sof + 7..sof + 9].copy_from_slice(&50_000u16.to_be_bytes());
+    let e = format!("{:#}", decode_rgba8(&j).expect_err("refused"));
+    assert!(e.contains(&format!("JPEG: the image declares 50000x60000 pixels, {limit}")), "{e}");
+    // Radiance RGBE: the resolution line.
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("huge.hdr");
+    std::fs::write(&p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 9000 +X 18000\n\x02\x02\x46\x50").unwrap();
+    let e = format!("{:#}", read_rgb_f32(&p).expect_err("refused"));
+    assert!(e.contains(&format!("RGBE: the image declares 18000x9000 pixels, {limit}")), "{e}");
+}
