@@ -550,18 +550,21 @@ pub fn material_words(m: &Material) -> [u32; sc::MATERIAL_WORDS] {
     w[sc::M_DOUBLE_SIDED] = m.double_sided as u32;
     w[sc::M_TRANSMISSION] = m.transmission.to_bits();
     w[sc::M_IOR] = m.ior.to_bits();
-    let tex = |t: Option<u32>| t.unwrap_or(sc::NONE);
-    w[sc::M_BASE_TEX] = tex(m.base_color_texture);
-    w[sc::M_MR_TEX] = tex(m.metallic_roughness_texture);
-    w[sc::M_NORMAL_TEX] = tex(m.normal_texture);
-    w[sc::M_EMISSIVE_TEX] = tex(m.emissive_texture);
-    w[sc::M_TRANSMISSION_TEX] = tex(m.transmission_texture);
-    let slots = [m.base_color_uv, m.metallic_roughness_uv, m.normal_uv, m.emissive_uv, m.transmission_uv];
-    for (k, t) in slots.iter().enumerate() {
-        for (j, x) in t.matrix().iter().enumerate() {
+    // Each texture slot's word with its transform, k = the slot's index from M_BASE_TEX.
+    let slots = [
+        (sc::M_BASE_TEX, m.base_color_texture, m.base_color_uv),
+        (sc::M_MR_TEX, m.metallic_roughness_texture, m.metallic_roughness_uv),
+        (sc::M_NORMAL_TEX, m.normal_texture, m.normal_uv),
+        (sc::M_EMISSIVE_TEX, m.emissive_texture, m.emissive_uv),
+        (sc::M_TRANSMISSION_TEX, m.transmission_texture, m.transmission_uv),
+    ];
+    for (slot, texture, uv) in slots {
+        w[slot] = texture.unwrap_or(sc::NONE);
+        let k = slot - sc::M_BASE_TEX;
+        for (j, x) in uv.matrix().iter().enumerate() {
             w[sc::M_UV_TRANSFORMS + 6 * k + j] = x.to_bits();
         }
-        if !t.is_identity() {
+        if !uv.is_identity() {
             w[sc::M_UV_TRANSFORMED] |= 1 << k;
         }
     }
